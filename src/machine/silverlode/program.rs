@@ -1,0 +1,244 @@
+//! The assembled form of a SilverLode program: commands with every name resolved, so the
+//! executor only matches on small enums.
+
+use std::sync::Arc;
+
+/// Declares an operation enum together with its source names, so the assembler, the executor
+/// and the explanations can never disagree on spelling.
+macro_rules! named_ops {
+    ($(#[$meta:meta])* $name:ident { $($variant:ident = $text:literal),* $(,)? }) => {
+        $(#[$meta])*
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum $name { $($variant),* }
+
+        impl $name {
+            pub const ALL: &'static [$name] = &[$($name::$variant),*];
+            pub const NAMES: &'static [&'static str] = &[$($text),*];
+
+            pub fn name(self) -> &'static str {
+                match self { $($name::$variant => $text),* }
+            }
+
+            /// Case-insensitive lookup.
+            pub fn parse(text: &str) -> Option<Self> {
+                Self::ALL.iter().copied().find(|op| op.name().eq_ignore_ascii_case(text))
+            }
+        }
+    };
+}
+
+named_ops! {
+    /// CLC operations: the accumulator (R10) against one register.
+    ClcOp {
+        Clear = "CLEAR", Copy = "COPY", Save = "SAVE", CopyRef = "COPY_REF", SaveRef = "SAVE_REF",
+        Abs = "ABS", Neg = "NEG", Inc = "INC", Dec = "DEC", Add = "ADD", AddHi = "ADD_HI",
+        AddLo = "ADD_LO", Sub = "SUB", SubRev = "SUB_REV", MultS = "MULT_S", MultU = "MULT_U",
+        Div = "DIV", Mod = "MOD", Max = "MAX", Min = "MIN", And = "AND", Or = "OR", Xor = "XOR",
+        Shl = "SHL", ShrS = "SHR_S", ShrU = "SHR_U", CopyWordHiAcc = "COPY_WORD_HI_ACC",
+        CopyWordHiReg = "COPY_WORD_HI_REG", CopyWordLoReg = "COPY_WORD_LO_REG",
+        SextHi = "SEXT_HI", SextLo = "SEXT_LO", SubTarget = "SUB_TARGET",
+    }
+}
+
+named_ops! {
+    /// CLD / CLX operations: `res = f(reg1, d)`, plus the queue operations.
+    ExtOp {
+        Copy = "COPY", Abs = "ABS", Neg = "NEG", Add = "ADD", Sub = "SUB", SubRev = "SUB_REV",
+        AddHi = "ADD_HI", AddLo = "ADD_LO", And = "AND", Or = "OR", Xor = "XOR", Max = "MAX",
+        Min = "MIN", SextHi = "SEXT_HI", SextLo = "SEXT_LO", PackLoLo = "PACK_LO_LO",
+        PackHiLo = "PACK_HI_LO", PackHiHi = "PACK_HI_HI", MultS = "MULT_S", MultU = "MULT_U",
+        MultS64Shr16 = "MULT_S64_SHR16", MultU64 = "MULT_U64", Div = "DIV", DivRev = "DIV_REV",
+        DivU64 = "DIV_U64", Mod = "MOD", ModRev = "MOD_REV",
+        QInit = "Q_INIT", QPushHead = "Q_PUSH_HEAD", QPopHead = "Q_POP_HEAD",
+        QPushTail = "Q_PUSH_TAIL", QPopTail = "Q_POP_TAIL", QRead = "Q_READ",
+        QPushHeadErr = "Q_PUSH_HEAD_ERR", QPopHeadErr = "Q_POP_HEAD_ERR",
+        QPushTailErr = "Q_PUSH_TAIL_ERR", QPopTailErr = "Q_POP_TAIL_ERR",
+    }
+}
+
+impl ExtOp {
+    pub fn is_queue(self) -> bool {
+        use ExtOp::*;
+        matches!(
+            self,
+            QInit
+                | QPushHead
+                | QPopHead
+                | QPushTail
+                | QPopTail
+                | QRead
+                | QPushHeadErr
+                | QPopHeadErr
+                | QPushTailErr
+                | QPopTailErr
+        )
+    }
+}
+
+named_ops! {
+    /// The ISW bits a condition can test.
+    CondBit {
+        Zero = "ZERO", Positive = "POSITIVE", Negative = "NEGATIVE", Index = "INDEX",
+        Io1 = "IO1", Io2 = "IO2", Io3 = "IO3", MovingError = "MOVING_ERROR",
+        HoldingError = "HOLDING_ERROR", InputFound = "INPUT_FOUND", DelayDone = "DELAY_DONE",
+    }
+}
+
+impl CondBit {
+    pub fn isw_bit(self) -> u8 {
+        match self {
+            CondBit::Index => 0,
+            CondBit::Zero => 1,
+            CondBit::Positive => 2,
+            CondBit::Negative => 3,
+            CondBit::Io1 => 4,
+            CondBit::Io2 => 5,
+            CondBit::Io3 => 6,
+            CondBit::MovingError => 8,
+            CondBit::HoldingError => 9,
+            CondBit::InputFound => 11,
+            CondBit::DelayDone => 12,
+        }
+    }
+}
+
+/// `COND` or `!COND`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Cond {
+    pub bit: CondBit,
+    /// True for `!COND`: holds while the bit is clear.
+    pub negated: bool,
+}
+
+impl Cond {
+    #[inline(always)]
+    pub fn holds(self, isw: u16) -> bool {
+        (isw >> self.bit.isw_bit() & 1 == 1) != self.negated
+    }
+}
+
+impl std::fmt::Display for Cond {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let bang = if self.negated { "!" } else { "" };
+        write!(f, "{bang}{}", self.bit.name())
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MoveKind {
+    /// Absolute, literal position.
+    Mav,
+    /// Relative to the target, literal distance.
+    Mrv,
+    /// Absolute, position in a register.
+    Rav,
+    /// Relative, distance in a register.
+    Rrv,
+}
+
+impl MoveKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            MoveKind::Mav => "MAV",
+            MoveKind::Mrv => "MRV",
+            MoveKind::Rav => "RAV",
+            MoveKind::Rrv => "RRV",
+        }
+    }
+    pub fn is_relative(self) -> bool {
+        matches!(self, MoveKind::Mrv | MoveKind::Rrv)
+    }
+    pub fn takes_register(self) -> bool {
+        matches!(self, MoveKind::Rav | MoveKind::Rrv)
+    }
+}
+
+/// One assembled command. Register operands are already checked to be 0..=199; jump targets are
+/// command indices (`== len` means "past the last line", which ends the program).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Instr {
+    Clc {
+        op: ClcOp,
+        reg: u8,
+    },
+    Cld {
+        op: ExtOp,
+        res: u8,
+        reg1: u8,
+        data: i32,
+    },
+    Clx {
+        op: ExtOp,
+        res: u8,
+        reg1: u8,
+        reg2: u8,
+    },
+    Wrp {
+        reg: u8,
+        value: i32,
+    },
+    Jmp {
+        target: u32,
+        cond: Option<Cond>,
+    },
+    Call {
+        target: u32,
+    },
+    Ret,
+    Dly {
+        ticks: u32,
+    },
+    Wbs {
+        cond: Cond,
+    },
+    Cer {
+        target: Option<u32>,
+    },
+    End,
+    Move {
+        kind: MoveKind,
+        /// Literal position/distance, or the register number for RAV/RRV.
+        pos: i32,
+        accel: i32,
+        vel: i32,
+        cond: Option<Cond>,
+    },
+    Ztp,
+    Ttp,
+}
+
+/// An assembled program: commands, where each came from, and the names the source used.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Program {
+    pub instrs: Vec<Instr>,
+    /// 1-based source line of each command.
+    pub lines: Vec<u32>,
+    /// Labels with the command index they name, in source order.
+    pub labels: Vec<(String, u32)>,
+    /// Registers the source mentions (for "registers this program uses" filters).
+    pub used_registers: Vec<u8>,
+}
+
+impl Program {
+    pub fn empty() -> Arc<Program> {
+        Arc::new(Program {
+            instrs: Vec::new(),
+            lines: Vec::new(),
+            labels: Vec::new(),
+            used_registers: Vec::new(),
+        })
+    }
+
+    /// The label naming command `index`, for explanations.
+    pub fn label_at(&self, index: u32) -> Option<&str> {
+        self.labels
+            .iter()
+            .find(|(_, at)| *at == index)
+            .map(|(name, _)| name.as_str())
+    }
+
+    /// The command index that starts on `line` (1-based), if any.
+    pub fn index_of_line(&self, line: usize) -> Option<usize> {
+        self.lines.iter().position(|&l| l as usize == line)
+    }
+}
