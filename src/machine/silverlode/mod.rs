@@ -488,6 +488,13 @@ impl SilverLode {
                 let d = self.s.regs[reg2 as usize];
                 self.ext(op, res as usize, reg1 as usize, d)
             }
+            // Jumps close every loop: keep them out of the rarely used `flow`.
+            Instr::Jmp { target, cond } => {
+                let taken = cond.is_none_or(|c| c.holds(self.s.isw));
+                self.record([i32::from(taken), 0, 0, 0], Outcome::Done);
+                self.complete(if taken { target } else { pc + 1 });
+                Ok(())
+            }
             _ => self.flow(instr),
         };
         match result {
@@ -807,6 +814,7 @@ impl SilverLode {
         Ok(())
     }
 
+    #[inline(never)]
     fn flow(&mut self, instr: Instr) -> Exec {
         let next = self.s.pc + 1;
         match instr {
@@ -970,10 +978,12 @@ impl SilverLode {
     #[inline(always)]
     fn motion_tick(&mut self) {
         let m = &self.s.motion;
-        let idle =
-            !m.active && m.settled && m.seen_r0 == self.s.regs[0] && m.seen_r1 == self.s.regs[1];
-        self.s.motion_ticked = !idle;
-        if !idle {
+        // `settled` implies no trajectory; R0 and R1 unchanged since the model last wrote them.
+        let idle = m.settled && (m.seen_r0, m.seen_r1) == (self.s.regs[0], self.s.regs[1]);
+        if idle {
+            self.s.motion_ticked = false;
+        } else {
+            self.s.motion_ticked = true;
             self.motion_step();
         }
     }

@@ -1,0 +1,160 @@
+//! The headless runner through the built binary: spec §8's flags, JSON shape and exit codes.
+
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+fn program_file(text: &str) -> tempfile_lite::TempFile {
+    tempfile_lite::TempFile::with(text)
+}
+
+fn servoscope(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_servoscope"))
+        .args(args)
+        .output()
+        .expect("run servoscope")
+}
+
+fn json(out: &Output) -> Value {
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(text.lines().count(), 1, "exactly one line of JSON: {text}");
+    serde_json::from_str(&text).expect("valid JSON")
+}
+
+/// A temporary file removed on drop (std only, so the tests need no extra crate).
+mod tempfile_lite {
+    use std::path::PathBuf;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    static COUNTER: AtomicUsize = AtomicUsize::new(0);
+
+    pub struct TempFile(pub PathBuf);
+
+    impl TempFile {
+        pub fn with(text: &str) -> TempFile {
+            let n = COUNTER.fetch_add(1, Ordering::SeqCst);
+            let path = std::env::temp_dir().join(format!("servoscope-cli-{}-{n}.qsl", std::process::id()));
+            std::fs::write(&path, text).expect("write temp program");
+            TempFile(path)
+        }
+        pub fn path(&self) -> &str {
+            self.0.to_str().expect("utf-8 temp path")
+        }
+    }
+
+    impl Drop for TempFile {
+        fn drop(&mut self) {
+            let _ = std::fs::remove_file(&self.0);
+        }
+    }
+}
+
+#[test]
+fn json_shape_of_an_ended_run() {
+    let f = program_file(
+        "CLD Q_INIT, 10, 27, 3\nCLD Q_PUSH_HEAD, 10, 27, 10\nCLD Q_PUSH_HEAD, 10, 27, 20\nCLD Q_PUSH_HEAD, 10, 27, 30\nCLD Q_POP_TAIL, 33, 27, 0\nWRP 50, -7\nEND\n",
+    );
+    let out = servoscope(&["run", f.path(), "--json"]);
+    assert_eq!(out.status.code(), Some(0));
+    let v = json(&out);
+    assert_eq!(v["dialect"], "silverlode");
+    assert_eq!(v["status"], "ended");
+    assert_eq!(v["ticks"], 7);
+    assert_eq!(v["steps"], 7);
+    assert!(v["fault"].is_null());
+    let regs = v["registers"].as_object().expect("registers object");
+    assert_eq!(regs.len(), 200);
+    assert!((0..200).all(|i| regs.contains_key(&i.to_string())));
+    assert_eq!(regs["50"], -7, "signed decimal");
+    assert_eq!(regs["33"], 10);
+    assert_eq!(v["isw"], 0x82, "driver enabled + zero flag (queue success)");
+    assert_eq!(v["psw"], 1 << 13);
+    let q = &v["queues"][0];
+    assert_eq!((q["base"].as_u64(), q["size"].as_u64(), q["len"].as_u64()), (Some(27), Some(3), Some(2)));
+    assert_eq!((q["head"].as_u64(), q["tail"].as_u64()), (Some(0), Some(1)));
+    assert_eq!(q["items"], serde_json::json!([20, 30]), "oldest (tail) first");
+    let mut keys: Vec<&str> = v.as_object().unwrap().keys().map(String::as_str).collect();
+    keys.sort_unstable();
+    assert_eq!(
+        keys,
+        ["dialect", "fault", "isw", "psw", "queues", "registers", "status", "steps", "ticks"]
+    );
+}
+
+#[test]
+fn a_fault_exits_1_with_kind_message_and_line() {
+    let f = program_file("WRP 10, 5\n\nCLC DIV, 11\nEND\n");
+    let out = servoscope(&["run", f.path(), "--json"]);
+    assert_eq!(out.status.code(), Some(1));
+    let v = json(&out);
+    assert_eq!(v["status"], "faulted");
+    assert_eq!(v["fault"]["kind"], "divide_by_zero");
+    assert_eq!(v["fault"]["line"], 3);
+    assert!(v["fault"]["message"].as_str().is_some_and(|m| !m.is_empty()));
+    assert_eq!(v["registers"]["10"], 5);
+    assert_eq!(v["ticks"], 1);
+}
+
+#[test]
+fn assembly_errors_exit_2_with_every_diagnostic_on_stderr() {
+    let f = program_file("CLK ADD, 1\nWRP 11, 1\nJMP nowhere\n");
+    let out = servoscope(&["run", f.path(), "--json"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(out.stdout.is_empty(), "nothing on stdout");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains(&format!("{}:1:1: error: unknown command 'CLK'", f.path())), "{err}");
+    assert!(err.contains(&format!("{}:3:5: error: undefined label 'nowhere'", f.path())), "{err}");
+}
+
+#[test]
+fn bad_arguments_and_missing_files_exit_2() {
+    let f = program_file("END\n");
+    for args in [
+        vec!["run", f.path(), "--bogus"],
+        vec!["run", f.path(), "--max-ticks", "many"],
+        vec!["run", f.path(), "--input", "IO4=5"],
+        vec!["run", f.path(), "--input", "IO1=a,b"],
+        vec!["run", "/nonexistent/program.qsl", "--json"],
+        vec!["run"],
+    ] {
+        let out = servoscope(&args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(out.stdout.is_empty(), "{args:?}");
+        assert!(!out.stderr.is_empty(), "{args:?}");
+    }
+}
+
+#[test]
+fn the_tick_limit_exits_3() {
+    let f = program_file("loop: CLC INC, 11\nJMP loop\n");
+    let out = servoscope(&["run", f.path(), "--max-ticks", "1000", "--json"]);
+    assert_eq!(out.status.code(), Some(3));
+    let v = json(&out);
+    assert_eq!(v["status"], "limit");
+    assert_eq!(v["ticks"], 1000);
+    assert_eq!(v["registers"]["11"], 500);
+}
+
+#[test]
+fn inputs_toggle_at_their_ticks() {
+    // Wait for IO1 high, then for it low again; count ticks in between.
+    let f = program_file("WBS IO1\nWBS !IO1\nEND\n");
+    let out = servoscope(&["run", f.path(), "--input", "IO1=100,250", "--json"]);
+    assert_eq!(out.status.code(), Some(0));
+    let v = json(&out);
+    // Toggles apply when the tick counter equals the tick: IO1 is seen high in tick 101 and
+    // low in tick 251; END takes tick 252.
+    assert_eq!(v["ticks"], 252);
+    let out = servoscope(&["run", f.path(), "--input", "IO1=100", "--max-ticks", "500", "--json"]);
+    assert_eq!(out.status.code(), Some(3), "IO1 never goes low again");
+}
+
+#[test]
+fn text_output_without_json() {
+    let f = program_file("WRP 11, 42\nEND\n");
+    let out = servoscope(&["run", f.path()]);
+    assert_eq!(out.status.code(), Some(0));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("status: ended"), "{text}");
+    assert!(text.contains("R11=42"), "{text}");
+}

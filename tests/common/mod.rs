@@ -1,0 +1,44 @@
+#![allow(dead_code)]
+//! Helpers shared by the integration tests.
+
+use servoscope::machine::silverlode::SilverLode;
+use servoscope::machine::{Machine, RunState};
+
+/// Assemble `source` or fail the test with every diagnostic.
+pub fn machine(source: &str) -> SilverLode {
+    match servoscope::runner::load(source) {
+        Ok(m) => m,
+        Err(diags) => {
+            let text: Vec<String> = diags.iter().map(ToString::to_string).collect();
+            panic!("program did not assemble:\n{}\n{source}", text.join("\n"))
+        }
+    }
+}
+
+/// Run `source` to its end (at most 10 M ticks).
+pub fn run(source: &str) -> SilverLode {
+    let mut m = machine(source);
+    m.run_until(10_000_000, |_| false);
+    m
+}
+
+/// Run and require the program to have ended normally.
+pub fn run_ok(source: &str) -> SilverLode {
+    let m = run(source);
+    assert_eq!(m.run_state(), RunState::Ended, "fault: {:?}\n{source}", m.fault());
+    m
+}
+
+pub fn reg(m: &SilverLode, r: usize) -> i32 {
+    m.reg(r)
+}
+
+pub fn ureg(m: &SilverLode, r: usize) -> u32 {
+    m.reg(r) as u32
+}
+
+/// The ISW arithmetic flags as (zero, positive, negative).
+pub fn flags(m: &SilverLode) -> (bool, bool, bool) {
+    let isw = m.isw();
+    (isw & 2 != 0, isw & 4 != 0, isw & 8 != 0)
+}
