@@ -52,7 +52,11 @@ fn labels_are_case_sensitive_mnemonics_are_not() {
     let e = errors("Loop: wrp 11, 1\njmp loop");
     assert_eq!(e.len(), 1);
     assert_eq!(at(&e[0]), (2, 5));
-    assert!(e[0].message.contains("did you mean 'Loop'"), "{}", e[0].message);
+    assert!(
+        e[0].message.contains("did you mean 'Loop'"),
+        "{}",
+        e[0].message
+    );
 }
 
 #[test]
@@ -71,7 +75,19 @@ fn every_error_is_reported_with_line_and_column() {
     let got: Vec<(usize, usize)> = e.iter().map(at).collect();
     assert_eq!(
         got,
-        vec![(1, 1), (2, 5), (3, 10), (3, 19), (4, 5), (5, 9), (6, 20), (7, 10), (8, 1), (9, 5), (10, 5)],
+        vec![
+            (1, 1),
+            (2, 5),
+            (3, 10),
+            (3, 19),
+            (4, 5),
+            (5, 9),
+            (6, 20),
+            (7, 10),
+            (8, 1),
+            (9, 5),
+            (10, 5)
+        ],
         "{e:#?}"
     );
     assert!(e[0].message.contains("did you mean CLC"));
@@ -105,7 +121,9 @@ fn def_must_come_before_use() {
 
 #[test]
 fn registers_and_numbers_are_not_confused() {
-    let e = errors("DEF speed = R30\nCLD ADD, 25, 26, R27\nWRP 11, speed\nCLC ADD, q16(1.5)\nDEF big = 300\nCLC INC, big");
+    let e = errors(
+        "DEF speed = R30\nCLD ADD, 25, 26, R27\nWRP 11, speed\nCLC ADD, q16(1.5)\nDEF big = 300\nCLC INC, big",
+    );
     assert_eq!(e.len(), 4, "{e:#?}");
     assert!(e[0].message.contains("CLX takes its data from a register"));
     assert!(e[1].message.contains("names register R30"));
@@ -115,7 +133,9 @@ fn registers_and_numbers_are_not_confused() {
 
 #[test]
 fn malformed_numbers_and_literals() {
-    let e = errors("WRP 11, 0x\nWRP 11, 0b102\nWRP 11, --5\nWRP 11, q16(1.2.3)\nWRP 11, q16(40000)\nDLY -5\nWRP 11,\nCER 1");
+    let e = errors(
+        "WRP 11, 0x\nWRP 11, 0b102\nWRP 11, --5\nWRP 11, q16(1.2.3)\nWRP 11, q16(40000)\nDLY -5\nWRP 11,\nCER 1",
+    );
     assert_eq!(e.len(), 8, "{e:#?}");
     assert!(e[4].message.contains("does not fit"));
     assert!(e[5].message.contains("negative"));
@@ -130,9 +150,14 @@ fn a_program_with_errors_produces_nothing_but_one_without_runs() {
 
 #[test]
 fn used_registers_include_implicit_ones() {
-    let p = assemble("CLC ADD, 20\nCLD Q_INIT, 11, 40, 3\nCLD MULT_U64, 50, 21, 3\nMAV 5, 1, 1").unwrap();
+    let p = assemble("CLC ADD, 20\nCLD Q_INIT, 11, 40, 3\nCLD MULT_U64, 50, 21, 3\nMAV 5, 1, 1")
+        .unwrap();
     for r in [10, 20, 11, 40, 41, 42, 43, 44, 50, 51, 21, 0, 1, 6, 7] {
-        assert!(p.used_registers.contains(&r), "R{r} missing from {:?}", p.used_registers);
+        assert!(
+            p.used_registers.contains(&r),
+            "R{r} missing from {:?}",
+            p.used_registers
+        );
     }
 }
 
@@ -140,11 +165,62 @@ fn used_registers_include_implicit_ones() {
 fn fragment() -> impl Strategy<Value = String> {
     prop_oneof![
         prop::sample::select(vec![
-            "CLC", "CLD", "CLX", "WRP", "JMP", "CALL", "RET", "DLY", "WBS", "CER", "END", "MAV", "MRV",
-            "RAV", "RRV", "ZTP", "TTP", "DEF", "Q_INIT", "Q_PUSH_HEAD", "Q_POP_TAIL_ERR", "Q_READ", "DIV",
-            "MOD_REV", "COPY_REF", "SAVE_REF", "MULT_U64", "DIV_U64", "SUB_TARGET", "loop", "loop:", "x =",
-            ",", ", ", ";", "!", "IO1", "!ZERO", "R199", "199", "0", "-1", "0xFFFF", "0b1", "q16(", ")",
-            "q16(-1.5)", "2147483648", "-2147483648", "4294967295", "1_0", "\n", "\t", " ", "(", "=",
+            "CLC",
+            "CLD",
+            "CLX",
+            "WRP",
+            "JMP",
+            "CALL",
+            "RET",
+            "DLY",
+            "WBS",
+            "CER",
+            "END",
+            "MAV",
+            "MRV",
+            "RAV",
+            "RRV",
+            "ZTP",
+            "TTP",
+            "DEF",
+            "Q_INIT",
+            "Q_PUSH_HEAD",
+            "Q_POP_TAIL_ERR",
+            "Q_READ",
+            "DIV",
+            "MOD_REV",
+            "COPY_REF",
+            "SAVE_REF",
+            "MULT_U64",
+            "DIV_U64",
+            "SUB_TARGET",
+            "loop",
+            "loop:",
+            "x =",
+            ",",
+            ", ",
+            ";",
+            "!",
+            "IO1",
+            "!ZERO",
+            "R199",
+            "199",
+            "0",
+            "-1",
+            "0xFFFF",
+            "0b1",
+            "q16(",
+            ")",
+            "q16(-1.5)",
+            "2147483648",
+            "-2147483648",
+            "4294967295",
+            "1_0",
+            "\n",
+            "\t",
+            " ",
+            "(",
+            "=",
         ])
         .prop_map(str::to_string),
         "[ -~]{0,6}",
@@ -160,11 +236,28 @@ fn program_text() -> impl Strategy<Value = String> {
 fn plausible_program() -> impl Strategy<Value = String> {
     let line = (
         prop::sample::select(vec![
-            "CLC INC, {a}", "CLC COPY_REF, {a}", "CLC SAVE_REF, {a}", "CLC DIV, {a}", "CLD Q_INIT, {a}, {b}, {c}",
-            "CLD Q_PUSH_HEAD_ERR, {a}, {b}, {c}", "CLD Q_POP_TAIL, {a}, {b}, {c}", "CLX Q_READ, {a}, {b}, {c}",
-            "CLD DIV_U64, {a}, {b}, {c}", "CLD MULT_U64, {a}, {b}, {c}", "CLX MOD_REV, {a}, {b}, {c}",
-            "WRP {a}, {v}", "JMP l{c}, !ZERO", "CALL l{c}", "RET", "DLY {c}", "MRV {v}, {v}, {v}",
-            "RAV {a}, {v}, {v}, IO2", "ZTP", "CLC SUB_TARGET, {a}", "CER l{c}", "END",
+            "CLC INC, {a}",
+            "CLC COPY_REF, {a}",
+            "CLC SAVE_REF, {a}",
+            "CLC DIV, {a}",
+            "CLD Q_INIT, {a}, {b}, {c}",
+            "CLD Q_PUSH_HEAD_ERR, {a}, {b}, {c}",
+            "CLD Q_POP_TAIL, {a}, {b}, {c}",
+            "CLX Q_READ, {a}, {b}, {c}",
+            "CLD DIV_U64, {a}, {b}, {c}",
+            "CLD MULT_U64, {a}, {b}, {c}",
+            "CLX MOD_REV, {a}, {b}, {c}",
+            "WRP {a}, {v}",
+            "JMP l{c}, !ZERO",
+            "CALL l{c}",
+            "RET",
+            "DLY {c}",
+            "MRV {v}, {v}, {v}",
+            "RAV {a}, {v}, {v}, IO2",
+            "ZTP",
+            "CLC SUB_TARGET, {a}",
+            "CER l{c}",
+            "END",
         ]),
         0u8..200,
         0u8..200,
@@ -187,8 +280,17 @@ fn plausible_program() -> impl Strategy<Value = String> {
     })
 }
 
+/// 2000 cases in a normal run; `FUZZ_CASES=1000000 cargo test --release --test assembler` to
+/// fuzz for longer.
+fn fuzz_cases() -> u32 {
+    std::env::var("FUZZ_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(2000)
+}
+
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(2000))]
+    #![proptest_config(ProptestConfig::with_cases(fuzz_cases()))]
 
     #[test]
     fn never_panics_on_any_text(text in program_text()) {

@@ -33,7 +33,8 @@ mod tempfile_lite {
     impl TempFile {
         pub fn with(text: &str) -> TempFile {
             let n = COUNTER.fetch_add(1, Ordering::SeqCst);
-            let path = std::env::temp_dir().join(format!("servoscope-cli-{}-{n}.qsl", std::process::id()));
+            let path =
+                std::env::temp_dir().join(format!("servoscope-cli-{}-{n}.qsl", std::process::id()));
             std::fs::write(&path, text).expect("write temp program");
             TempFile(path)
         }
@@ -70,14 +71,31 @@ fn json_shape_of_an_ended_run() {
     assert_eq!(v["isw"], 0x82, "driver enabled + zero flag (queue success)");
     assert_eq!(v["psw"], 1 << 13);
     let q = &v["queues"][0];
-    assert_eq!((q["base"].as_u64(), q["size"].as_u64(), q["len"].as_u64()), (Some(27), Some(3), Some(2)));
+    assert_eq!(
+        (q["base"].as_u64(), q["size"].as_u64(), q["len"].as_u64()),
+        (Some(27), Some(3), Some(2))
+    );
     assert_eq!((q["head"].as_u64(), q["tail"].as_u64()), (Some(0), Some(1)));
-    assert_eq!(q["items"], serde_json::json!([20, 30]), "oldest (tail) first");
+    assert_eq!(
+        q["items"],
+        serde_json::json!([20, 30]),
+        "oldest (tail) first"
+    );
     let mut keys: Vec<&str> = v.as_object().unwrap().keys().map(String::as_str).collect();
     keys.sort_unstable();
     assert_eq!(
         keys,
-        ["dialect", "fault", "isw", "psw", "queues", "registers", "status", "steps", "ticks"]
+        [
+            "dialect",
+            "fault",
+            "isw",
+            "psw",
+            "queues",
+            "registers",
+            "status",
+            "steps",
+            "ticks"
+        ]
     );
 }
 
@@ -90,7 +108,11 @@ fn a_fault_exits_1_with_kind_message_and_line() {
     assert_eq!(v["status"], "faulted");
     assert_eq!(v["fault"]["kind"], "divide_by_zero");
     assert_eq!(v["fault"]["line"], 3);
-    assert!(v["fault"]["message"].as_str().is_some_and(|m| !m.is_empty()));
+    assert!(
+        v["fault"]["message"]
+            .as_str()
+            .is_some_and(|m| !m.is_empty())
+    );
     assert_eq!(v["registers"]["10"], 5);
     assert_eq!(v["ticks"], 1);
 }
@@ -102,8 +124,17 @@ fn assembly_errors_exit_2_with_every_diagnostic_on_stderr() {
     assert_eq!(out.status.code(), Some(2));
     assert!(out.stdout.is_empty(), "nothing on stdout");
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains(&format!("{}:1:1: error: unknown command 'CLK'", f.path())), "{err}");
-    assert!(err.contains(&format!("{}:3:5: error: undefined label 'nowhere'", f.path())), "{err}");
+    assert!(
+        err.contains(&format!("{}:1:1: error: unknown command 'CLK'", f.path())),
+        "{err}"
+    );
+    assert!(
+        err.contains(&format!(
+            "{}:3:5: error: undefined label 'nowhere'",
+            f.path()
+        )),
+        "{err}"
+    );
 }
 
 #[test]
@@ -145,7 +176,15 @@ fn inputs_toggle_at_their_ticks() {
     // Toggles apply when the tick counter equals the tick: IO1 is seen high in tick 101 and
     // low in tick 251; END takes tick 252.
     assert_eq!(v["ticks"], 252);
-    let out = servoscope(&["run", f.path(), "--input", "IO1=100", "--max-ticks", "500", "--json"]);
+    let out = servoscope(&[
+        "run",
+        f.path(),
+        "--input",
+        "IO1=100",
+        "--max-ticks",
+        "500",
+        "--json",
+    ]);
     assert_eq!(out.status.code(), Some(3), "IO1 never goes low again");
 }
 

@@ -8,7 +8,9 @@ use servoscope::machine::{Machine, RunState};
 use servoscope::runner::{InputToggle, load, parse_input_spec, run_with_inputs};
 
 fn example(name: &str, inputs: &[InputToggle]) -> SilverLode {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples").join(name);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/examples")
+        .join(name);
     let text = std::fs::read_to_string(&path).expect("example exists");
     let mut m = load(&text).unwrap_or_else(|e| panic!("{name}: {e:?}"));
     run_with_inputs(&mut m, inputs, 10_000_000);
@@ -25,7 +27,16 @@ fn every_example_is_tested() {
         .filter(|n| n.ends_with(".qsl"))
         .collect();
     names.sort();
-    assert_eq!(names, ["call_ret.qsl", "fifo_moves.qsl", "fixed_point.qsl", "homing.qsl", "lifo_undo.qsl"]);
+    assert_eq!(
+        names,
+        [
+            "call_ret.qsl",
+            "fifo_moves.qsl",
+            "fixed_point.qsl",
+            "homing.qsl",
+            "lifo_undo.qsl"
+        ]
+    );
 }
 
 #[test]
@@ -34,12 +45,19 @@ fn fixed_point() {
     assert_eq!(m.reg(21), 1016, "(40000 × 1665) >> 16");
     assert_eq!(m.reg(22), 10162, "(400000 × 1665) >> 16");
     assert_eq!(m.reg(25), 254346);
-    assert_eq!(m.reg(28), -2, "(-3 × 32768) >> 16 rounds toward minus infinity");
+    assert_eq!(
+        m.reg(28),
+        -2,
+        "(-3 × 32768) >> 16 rounds toward minus infinity"
+    );
 }
 
 #[test]
 fn fifo_moves_visit_positions_in_order() {
-    let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples/fifo_moves.qsl")).unwrap();
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples/fifo_moves.qsl"),
+    )
+    .unwrap();
     let mut m = load(&text).unwrap();
     // Record the target every time a move completes.
     let mut visited = Vec::new();
@@ -54,7 +72,11 @@ fn fifo_moves_visit_positions_in_order() {
     assert_eq!(m.reg(32), 5);
     let q = &m.queues()[0];
     let h = q.header.as_ref().unwrap();
-    assert_eq!((h.len, h.head, h.tail), (0, 1, 1), "five pushes on a ring of four wrapped");
+    assert_eq!(
+        (h.len, h.head, h.tail),
+        (0, 1, 1),
+        "five pushes on a ring of four wrapped"
+    );
     assert_eq!(m.reg(1), 0, "settled on the last position");
 }
 

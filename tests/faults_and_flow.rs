@@ -26,8 +26,16 @@ fn assert_fault(source: &str, line: usize, kind: &str) -> SilverLode {
     assert_eq!(after.regs(), before.regs(), "registers untouched");
     assert_eq!(after.isw(), before.isw(), "ISW untouched");
     assert_eq!(after.psw(), before.psw() | 1 << 12, "PSW bit 12 set");
-    assert_eq!(after.ticks(), before.ticks(), "the faulting tick is not spent");
-    assert_eq!(after.steps(), before.steps(), "the faulting command is not counted");
+    assert_eq!(
+        after.ticks(),
+        before.ticks(),
+        "the faulting tick is not spent"
+    );
+    assert_eq!(
+        after.steps(),
+        before.steps(),
+        "the faulting command is not counted"
+    );
     assert_eq!(after.pc_line(), Some(line), "pc stays on the faulting line");
     assert_eq!(after.state().motion, before.state().motion);
     after
@@ -36,7 +44,11 @@ fn assert_fault(source: &str, line: usize, kind: &str) -> SilverLode {
 #[test]
 fn divide_by_zero_uses_the_low_word() {
     // 0x10000 has a zero low word: the divisor is 0 although the register is not.
-    assert_fault("WRP 10, 100\nWRP 11, 0x10000\nCLC DIV, 11", 3, "divide_by_zero");
+    assert_fault(
+        "WRP 10, 100\nWRP 11, 0x10000\nCLC DIV, 11",
+        3,
+        "divide_by_zero",
+    );
     assert_fault("WRP 10, 100\nWRP 11, 0\nCLC MOD, 11", 3, "divide_by_zero");
     assert_fault("WRP 26, 5\nCLD DIV, 25, 26, 0", 2, "divide_by_zero");
     assert_fault("WRP 26, 0\nCLD DIV_REV, 25, 26, 7", 2, "divide_by_zero");
@@ -47,34 +59,74 @@ fn divide_by_zero_uses_the_low_word() {
 #[test]
 fn divide_overflow() {
     // 0xFFFF is -1 as a signed 16-bit divisor.
-    assert_fault("WRP 26, -2147483648\nCLD DIV, 25, 26, 0xFFFF", 2, "divide_overflow");
-    assert_fault("WRP 26, -2147483648\nCLD MOD, 25, 26, -1", 2, "divide_overflow");
-    assert_fault("WRP 10, -2147483648\nWRP 11, -1\nCLC DIV, 11", 3, "divide_overflow");
-    assert_fault("WRP 26, -1\nCLD DIV_REV, 25, 26, -2147483648", 2, "divide_overflow");
+    assert_fault(
+        "WRP 26, -2147483648\nCLD DIV, 25, 26, 0xFFFF",
+        2,
+        "divide_overflow",
+    );
+    assert_fault(
+        "WRP 26, -2147483648\nCLD MOD, 25, 26, -1",
+        2,
+        "divide_overflow",
+    );
+    assert_fault(
+        "WRP 10, -2147483648\nWRP 11, -1\nCLC DIV, 11",
+        3,
+        "divide_overflow",
+    );
+    assert_fault(
+        "WRP 26, -1\nCLD DIV_REV, 25, 26, -2147483648",
+        2,
+        "divide_overflow",
+    );
     // 2^32 / 1 does not fit 32 bits.
-    assert_fault("WRP 26, 1\nWRP 27, 0\nCLD DIV_U64, 25, 26, 1", 3, "divide_overflow");
+    assert_fault(
+        "WRP 26, 1\nWRP 27, 0\nCLD DIV_U64, 25, 26, 1",
+        3,
+        "divide_overflow",
+    );
 }
 
 #[test]
 fn queue_full_and_empty_in_the_err_variants() {
-    let full = "CLD Q_INIT, 10, 27, 1\nCLD Q_PUSH_HEAD_ERR, 10, 27, 5\nCLD Q_PUSH_HEAD_ERR, 10, 27, 6";
+    let full =
+        "CLD Q_INIT, 10, 27, 1\nCLD Q_PUSH_HEAD_ERR, 10, 27, 5\nCLD Q_PUSH_HEAD_ERR, 10, 27, 6";
     assert_fault(full, 3, "queue_full");
-    let full_tail = "CLD Q_INIT, 10, 27, 1\nCLD Q_PUSH_TAIL_ERR, 10, 27, 5\nCLD Q_PUSH_TAIL_ERR, 10, 27, 6";
+    let full_tail =
+        "CLD Q_INIT, 10, 27, 1\nCLD Q_PUSH_TAIL_ERR, 10, 27, 5\nCLD Q_PUSH_TAIL_ERR, 10, 27, 6";
     assert_fault(full_tail, 3, "queue_full");
-    assert_fault("CLD Q_INIT, 10, 27, 2\nCLD Q_POP_HEAD_ERR, 33, 27, 0", 2, "queue_empty");
-    assert_fault("CLD Q_INIT, 10, 27, 2\nCLD Q_POP_TAIL_ERR, 33, 27, 0", 2, "queue_empty");
+    assert_fault(
+        "CLD Q_INIT, 10, 27, 2\nCLD Q_POP_HEAD_ERR, 33, 27, 0",
+        2,
+        "queue_empty",
+    );
+    assert_fault(
+        "CLD Q_INIT, 10, 27, 2\nCLD Q_POP_TAIL_ERR, 33, 27, 0",
+        2,
+        "queue_empty",
+    );
 }
 
 #[test]
 fn flag_variants_fail_without_faulting() {
-    let m = run_ok("CLD Q_INIT, 10, 27, 1\nCLD Q_PUSH_HEAD, 10, 27, 5\nWRP 12, 77\nCLD Q_PUSH_HEAD, 12, 27, 6");
-    assert_eq!(flags(&m), (false, false, true), "failure sets NEGATIVE only");
+    let m = run_ok(
+        "CLD Q_INIT, 10, 27, 1\nCLD Q_PUSH_HEAD, 10, 27, 5\nWRP 12, 77\nCLD Q_PUSH_HEAD, 12, 27, 6",
+    );
+    assert_eq!(
+        flags(&m),
+        (false, false, true),
+        "failure sets NEGATIVE only"
+    );
     assert_eq!(reg(&m, 12), 77, "result register unchanged (spec §7)");
     assert_eq!(reg(&m, 29), 5);
     let m = run_ok("CLD Q_INIT, 10, 27, 1\nWRP 12, 77\nCLD Q_POP_TAIL, 12, 27, 0");
     assert_eq!((flags(&m), reg(&m, 12)), ((false, false, true), 77));
     let m = run_ok("CLD Q_INIT, 10, 27, 1\nCLD Q_READ, 12, 27, 0");
-    assert_eq!(flags(&m), (false, false, true), "reading an empty queue fails");
+    assert_eq!(
+        flags(&m),
+        (false, false, true),
+        "reading an empty queue fails"
+    );
 }
 
 #[test]
@@ -87,8 +139,16 @@ fn bad_queue() {
     assert_eq!(reg(&m, 10), 8);
     // A header that was never initialised, or was overwritten.
     assert_fault("CLD Q_PUSH_HEAD, 10, 50, 1", 1, "bad_queue");
-    assert_fault("CLD Q_INIT, 10, 27, 3\nWRP 28, 0x00050000\nCLD Q_POP_TAIL, 10, 27, 0", 3, "bad_queue");
-    assert_fault("CLD Q_INIT, 10, 27, 3\nWRP 27, 0x00030004\nCLD Q_READ, 10, 27, 0", 3, "bad_queue");
+    assert_fault(
+        "CLD Q_INIT, 10, 27, 3\nWRP 28, 0x00050000\nCLD Q_POP_TAIL, 10, 27, 0",
+        3,
+        "bad_queue",
+    );
+    assert_fault(
+        "CLD Q_INIT, 10, 27, 3\nWRP 27, 0x00030004\nCLD Q_READ, 10, 27, 0",
+        3,
+        "bad_queue",
+    );
 }
 
 #[test]
@@ -105,7 +165,11 @@ fn bad_motion() {
     assert_fault("MAV 100, 1073741825, 1000", 1, "bad_motion");
     assert_fault("MAV 100, 10, 2147483649", 1, "bad_motion");
     assert_fault("MAV 100, 10, -1", 1, "bad_motion");
-    assert_fault("WRP 0, 2147483000\nWRP 1, 2147483000\nMRV 1000, 10, 1000", 3, "bad_motion");
+    assert_fault(
+        "WRP 0, 2147483000\nWRP 1, 2147483000\nMRV 1000, 10, 1000",
+        3,
+        "bad_motion",
+    );
 }
 
 #[test]
@@ -186,9 +250,17 @@ fn flags_follow_the_written_value_and_wrp_leaves_them() {
     let m = run_ok("WRP 26, 5\nCLD SUB, 25, 26, 5");
     assert_eq!(flags(&m), (true, false, false));
     let m = run_ok("WRP 26, 5\nCLD SUB, 25, 26, 6\nWRP 25, 100\nJMP x\nx: END");
-    assert_eq!(flags(&m), (false, false, true), "WRP and JMP keep the flags");
+    assert_eq!(
+        flags(&m),
+        (false, false, true),
+        "WRP and JMP keep the flags"
+    );
     let m = run_ok("WRP 26, -1\nCLD MULT_U64, 30, 26, 2");
-    assert_eq!(flags(&m), (false, true, false), "MULT_U64 flags from the unsigned 64-bit result");
+    assert_eq!(
+        flags(&m),
+        (false, true, false),
+        "MULT_U64 flags from the unsigned 64-bit result"
+    );
 }
 
 #[test]
@@ -198,7 +270,11 @@ fn call_and_return() {
     let mut m = machine("CALL f\nEND\nf: CALL g\nRET\ng: RET");
     m.step_command(1);
     m.step_command(1);
-    assert_eq!(m.call_stack_lines(), vec![2, 4], "return lines, outermost first");
+    assert_eq!(
+        m.call_stack_lines(),
+        vec![2, 4],
+        "return lines, outermost first"
+    );
 }
 
 #[test]
@@ -210,7 +286,11 @@ fn wbs_waits_for_an_input() {
     assert!(m.isw() & 1 << 5 != 0, "ISW bit 5 mirrors IO2");
     m.run_until(1000, |_| false);
     assert_eq!(m.run_state(), RunState::Ended);
-    assert_eq!(m.ticks(), 53, "50 waiting ticks, the tick the condition held, WRP, END");
+    assert_eq!(
+        m.ticks(),
+        53,
+        "50 waiting ticks, the tick the condition held, WRP, END"
+    );
 }
 
 #[test]
@@ -219,9 +299,16 @@ fn step_command_and_breakpoint_predicates() {
     m.step_command(1_000);
     assert_eq!((m.pc_line(), m.ticks()), (Some(2), 1));
     m.step_command(1_000);
-    assert_eq!((m.pc_line(), m.ticks()), (Some(3), 11), "a step waits out the whole delay");
+    assert_eq!(
+        (m.pc_line(), m.ticks()),
+        (Some(3), 11),
+        "a step waits out the whole delay"
+    );
     let mut m = machine("WRP 11, 1\nDLY 10\nWRP 12, 2\nEND");
-    assert_eq!(m.run_until(1_000, |m| m.pc_line() == Some(3)), StopReason::Predicate);
+    assert_eq!(
+        m.run_until(1_000, |m| m.pc_line() == Some(3)),
+        StopReason::Predicate
+    );
     assert_eq!(reg(&m, 12), 0, "stopped before the breakpoint line runs");
 }
 
@@ -236,7 +323,9 @@ fn the_machine_is_deterministic() {
 
 #[test]
 fn explanations_show_operands_and_values() {
-    let mut m = machine("WRP 26, 1000\nCLD MULT_S64_SHR16, 25, 26, 16668865\nCLD Q_INIT, 10, 27, 3\nCLD Q_PUSH_HEAD, 10, 27, 10\nCLD Q_PUSH_HEAD, 10, 27, 20\nCLD Q_PUSH_HEAD, 10, 27, 30");
+    let mut m = machine(
+        "WRP 26, 1000\nCLD MULT_S64_SHR16, 25, 26, 16668865\nCLD Q_INIT, 10, 27, 3\nCLD Q_PUSH_HEAD, 10, 27, 10\nCLD Q_PUSH_HEAD, 10, 27, 20\nCLD Q_PUSH_HEAD, 10, 27, 30",
+    );
     m.step_command(1);
     m.step_command(1);
     assert_eq!(

@@ -24,7 +24,10 @@ fn trapezoid_lands_exactly_in_the_expected_time() {
     let ticks = move_ticks("MAV 4000, 3865, 8053064\nEND");
     let (v, a) = (8053064.0 / UNIT, 3865.0 / UNIT);
     let expected = 4000.0 / v + v / a;
-    assert!((ticks as f64 - expected).abs() < 3.0, "{ticks} vs {expected}");
+    assert!(
+        (ticks as f64 - expected).abs() < 3.0,
+        "{ticks} vs {expected}"
+    );
     let m = run_ok("MAV 4000, 3865, 8053064\nEND");
     assert_eq!(reg(&m, 0), 4000, "the target lands exactly");
 }
@@ -34,7 +37,10 @@ fn triangle_when_top_speed_is_not_reached() {
     let ticks = move_ticks("MAV 100, 3865, 8053064\nEND");
     let a = 3865.0 / UNIT;
     let expected = 2.0 * (100.0 / a).sqrt();
-    assert!((ticks as f64 - expected).abs() < 3.0, "{ticks} vs {expected}");
+    assert!(
+        (ticks as f64 - expected).abs() < 3.0,
+        "{ticks} vs {expected}"
+    );
     // The trajectory speed never reaches the velocity limit.
     let mut m = machine("MAV 100, 3865, 8053064\nEND");
     let mut peak = 0;
@@ -62,7 +68,12 @@ fn trapezoid_cruises_at_the_velocity_limit() {
 
 #[test]
 fn moves_land_exactly_for_awkward_parameters() {
-    for (pos, accel, vel) in [(1, 1, 1_000_000), (7, 1_073_741_824, 2_147_483_648u32), (-99_999, 12_345, 98_765_432), (3, 100_000_000, 5_000)] {
+    for (pos, accel, vel) in [
+        (1, 1, 1_000_000),
+        (7, 1_073_741_824, 2_147_483_648u32),
+        (-99_999, 12_345, 98_765_432),
+        (3, 100_000_000, 5_000),
+    ] {
         let m = run_ok(&format!("MAV {pos}, {accel}, {vel}\nEND"));
         assert_eq!(reg(&m, 0), pos, "MAV {pos}, {accel}, {vel}");
     }
@@ -70,7 +81,9 @@ fn moves_land_exactly_for_awkward_parameters() {
 
 #[test]
 fn relative_and_register_moves() {
-    let m = run_ok("MAV 1000, 386500, 80530640\nMRV 250, 386500, 80530640\nWRP 30, -500\nRRV 30, 386500, 80530640\nWRP 31, 42\nRAV 31, 386500, 80530640\nEND");
+    let m = run_ok(
+        "MAV 1000, 386500, 80530640\nMRV 250, 386500, 80530640\nWRP 30, -500\nRRV 30, 386500, 80530640\nWRP 31, 42\nRAV 31, 386500, 80530640\nEND",
+    );
     assert_eq!(reg(&m, 0), 42);
     let m = run_ok("MAV 1000, 386500, 80530640\nMRV 250, 386500, 80530640\nEND");
     assert_eq!(reg(&m, 0), 1250, "MRV is relative to the target");
@@ -92,7 +105,10 @@ fn a_move_waits_and_counts_as_one_step() {
 #[test]
 fn follower_settles_onto_the_target() {
     let m = run_ok("MAV 4000, 3865, 8053064\nDLY 5000\nEND");
-    assert_eq!((reg(&m, 0), reg(&m, 1), reg(&m, 6), reg(&m, 7)), (4000, 4000, 0, 0));
+    assert_eq!(
+        (reg(&m, 0), reg(&m, 1), reg(&m, 6), reg(&m, 7)),
+        (4000, 4000, 0, 0)
+    );
 }
 
 #[test]
@@ -113,8 +129,15 @@ fn follower_step_response_is_second_order() {
     let wn = 2.0 * std::f64::consts::PI * 25.0;
     let overshoot = 1000.0 * (-zeta * std::f64::consts::PI / (1.0 - zeta * zeta).sqrt()).exp();
     let t_peak = std::f64::consts::PI / (wn * (1.0 - zeta * zeta).sqrt()) / 120e-6;
-    assert!((f64::from(peak - 1000) - overshoot).abs() < 6.0, "peak {peak}, expected ≈ {}", 1000.0 + overshoot);
-    assert!((peak_tick as f64 - t_peak).abs() < 15.0, "peak at {peak_tick}, expected ≈ {t_peak:.0}");
+    assert!(
+        (f64::from(peak - 1000) - overshoot).abs() < 6.0,
+        "peak {peak}, expected ≈ {}",
+        1000.0 + overshoot
+    );
+    assert!(
+        (peak_tick as f64 - t_peak).abs() < 15.0,
+        "peak at {peak_tick}, expected ≈ {t_peak:.0}"
+    );
     assert_eq!(reg(&m, 1), 1000);
 }
 
@@ -122,7 +145,10 @@ fn follower_step_response_is_second_order() {
 fn settings_change_the_follower() {
     // A stiffer loop overshoots the same but peaks sooner.
     let program = servoscope::machine::silverlode::assemble("WRP 0, 1000\nDLY 2000\nEND").unwrap();
-    let settings = ServoSettings { natural_frequency_hz: 100.0, ..ServoSettings::default() };
+    let settings = ServoSettings {
+        natural_frequency_hz: 100.0,
+        ..ServoSettings::default()
+    };
     let mut m = SilverLode::with_settings(std::sync::Arc::new(program), settings);
     let mut peak_tick = 0;
     let mut peak = 0;
@@ -139,13 +165,18 @@ fn settings_change_the_follower() {
 #[test]
 fn sub_target_and_ztp_do_not_move_the_motor() {
     // Settle at 4000, then zero there: nothing may move afterwards.
-    let mut m = machine("MAV 4000, 38650, 80530640\nDLY 3000\nWRP 4, 4000\nCLC SUB_TARGET, 4\nDLY 500\nEND");
+    let mut m = machine(
+        "MAV 4000, 38650, 80530640\nDLY 3000\nWRP 4, 4000\nCLC SUB_TARGET, 4\nDLY 500\nEND",
+    );
     m.run_until(1_000_000, |m| m.pc_line() == Some(4));
     let velocity_before = reg(&m, 7);
     m.step_command(1);
     assert_eq!((reg(&m, 0), reg(&m, 1)), (0, 0));
     m.run_until(1_000_000, |_| false);
-    assert_eq!((reg(&m, 0), reg(&m, 1), reg(&m, 7)), (0, 0, velocity_before));
+    assert_eq!(
+        (reg(&m, 0), reg(&m, 1), reg(&m, 7)),
+        (0, 0, velocity_before)
+    );
 
     // ZTP while the follower still lags: the error is kept and closes on the new zero.
     let mut m = machine("MAV 4000, 386500, 805306400\nZTP\nDLY 3000\nEND");
@@ -173,30 +204,62 @@ fn stop_on_input_records_the_trigger_position() {
     let mut m = machine(program);
     run_with_inputs(&mut m, &[], 5000);
     let r1_at_trigger = reg(&m, 1);
-    run_with_inputs(&mut m, &[InputToggle { tick: 5000, input: 0 }], 10_000_000);
+    run_with_inputs(
+        &mut m,
+        &[InputToggle {
+            tick: 5000,
+            input: 0,
+        }],
+        10_000_000,
+    );
     assert_eq!(m.run_state(), RunState::Ended);
-    assert_eq!(reg(&m, 4), r1_at_trigger, "R4 = R1 at the tick the input was seen");
-    assert!(m.isw() & 1 << 11 != 0 && m.psw() & 1 << 11 != 0, "input found in ISW and PSW");
+    assert_eq!(
+        reg(&m, 4),
+        r1_at_trigger,
+        "R4 = R1 at the tick the input was seen"
+    );
+    assert!(
+        m.isw() & 1 << 11 != 0 && m.psw() & 1 << 11 != 0,
+        "input found in ISW and PSW"
+    );
     // Braking from 1000 counts/s at 4000 counts/s² takes ≈ v²/2a = 125 counts.
     let (v, a) = (8053064.0 / UNIT, 3865.0 / UNIT);
     let braking = f64::from(reg(&m, 0) - r1_at_trigger);
     assert!(reg(&m, 0) < 100_000);
-    assert!((braking - v * v / (2.0 * a)).abs() < 30.0, "braked over {braking} counts");
+    assert!(
+        (braking - v * v / (2.0 * a)).abs() < 30.0,
+        "braked over {braking} counts"
+    );
 }
 
 #[test]
 fn homing_with_sub_target_zeroes_at_the_trigger() {
     let program = "MAV 100000, 38650, 80530640, IO3\nCLC SUB_TARGET, 4\nDLY 5000\nMAV 0, 38650, 80530640\nDLY 5000\nEND";
     let mut m = machine(program);
-    run_with_inputs(&mut m, &[InputToggle { tick: 2000, input: 2 }], 10_000_000);
+    run_with_inputs(
+        &mut m,
+        &[InputToggle {
+            tick: 2000,
+            input: 2,
+        }],
+        10_000_000,
+    );
     assert_eq!(m.run_state(), RunState::Ended);
-    assert_eq!((reg(&m, 0), reg(&m, 1)), (0, 0), "back at the sensor position");
+    assert_eq!(
+        (reg(&m, 0), reg(&m, 1)),
+        (0, 0),
+        "back at the sensor position"
+    );
 }
 
 #[test]
 fn error_flags_follow_the_limits() {
-    let program = servoscope::machine::silverlode::assemble("MAV 4000, 3865, 8053064\nEND").unwrap();
-    let tight = ServoSettings { moving_error_limit: 1, ..ServoSettings::default() };
+    let program =
+        servoscope::machine::silverlode::assemble("MAV 4000, 3865, 8053064\nEND").unwrap();
+    let tight = ServoSettings {
+        moving_error_limit: 1,
+        ..ServoSettings::default()
+    };
     let mut m = SilverLode::with_settings(std::sync::Arc::new(program), tight);
     let mut seen = false;
     while m.run_state() != RunState::Ended {

@@ -11,7 +11,11 @@ use servoscope::machine::{Machine, RunState};
 /// Reduce any integer to the signed 32-bit register it would wrap to.
 fn wrap(v: i128) -> i32 {
     let m = v.rem_euclid(1 << 32);
-    if m >= 1 << 31 { (m - (1 << 32)) as i32 } else { m as i32 }
+    if m >= 1 << 31 {
+        (m - (1 << 32)) as i32
+    } else {
+        m as i32
+    }
 }
 fn word_hi(v: i32) -> i64 {
     (i64::from(v).rem_euclid(1 << 32)) / 65536
@@ -67,16 +71,42 @@ fn ext_reference(op: &str, a: i32, d: i32) -> Option<i32> {
                 return None;
             }
             let (q, r) = trunc_div(n, div);
-            if op.starts_with("DIV") { q as i32 } else { r as i32 }
+            if op.starts_with("DIV") {
+                q as i32
+            } else {
+                r as i32
+            }
         }
         _ => unreachable!("{op}"),
     })
 }
 
 const EXT_OPS: &[&str] = &[
-    "COPY", "ABS", "NEG", "ADD", "SUB", "SUB_REV", "ADD_HI", "ADD_LO", "AND", "OR", "XOR", "MAX",
-    "MIN", "SEXT_HI", "SEXT_LO", "PACK_LO_LO", "PACK_HI_LO", "PACK_HI_HI", "MULT_S", "MULT_U",
-    "MULT_S64_SHR16", "DIV", "MOD", "DIV_REV", "MOD_REV",
+    "COPY",
+    "ABS",
+    "NEG",
+    "ADD",
+    "SUB",
+    "SUB_REV",
+    "ADD_HI",
+    "ADD_LO",
+    "AND",
+    "OR",
+    "XOR",
+    "MAX",
+    "MIN",
+    "SEXT_HI",
+    "SEXT_LO",
+    "PACK_LO_LO",
+    "PACK_HI_LO",
+    "PACK_HI_HI",
+    "MULT_S",
+    "MULT_U",
+    "MULT_S64_SHR16",
+    "DIV",
+    "MOD",
+    "DIV_REV",
+    "MOD_REV",
 ];
 
 /// Values that reach the edges often: extremes, small numbers, 16-bit boundaries.
@@ -84,7 +114,18 @@ fn value() -> impl Strategy<Value = i32> {
     prop_oneof![
         any::<i32>(),
         -70_000i32..70_000,
-        prop::sample::select(vec![0, 1, -1, i32::MIN, i32::MAX, 0xFFFF, 0x8000, -0x8000, 0x10000, -65536]),
+        prop::sample::select(vec![
+            0,
+            1,
+            -1,
+            i32::MIN,
+            i32::MAX,
+            0xFFFF,
+            0x8000,
+            -0x8000,
+            0x10000,
+            -65536
+        ]),
     ]
 }
 

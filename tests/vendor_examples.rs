@@ -125,7 +125,9 @@ fn clc_mod() {
 
 #[test]
 fn clc_mult_signed_and_unsigned() {
-    let m = run_ok("WRP 10, 5\nWRP 11, -10\nCLC MULT_S, 11\nCLC SAVE, 20\nWRP 10, 5\nWRP 11, 10\nCLC MULT_U, 11");
+    let m = run_ok(
+        "WRP 10, 5\nWRP 11, -10\nCLC MULT_S, 11\nCLC SAVE, 20\nWRP 10, 5\nWRP 11, 10\nCLC MULT_U, 11",
+    );
     assert_eq!(reg(&m, 20), -50);
     assert_eq!(reg(&m, 10), 50);
 }
@@ -200,7 +202,9 @@ fn cld_add() {
 
 #[test]
 fn cld_add_hi_and_lo() {
-    let m = run_ok("WRP 26, 0x000A0000\nCLD ADD_HI, 25, 26, 0x4C\nWRP 27, 0x0200000A\nCLD ADD_LO, 28, 27, 0x4C");
+    let m = run_ok(
+        "WRP 26, 0x000A0000\nCLD ADD_HI, 25, 26, 0x4C\nWRP 27, 0x0200000A\nCLD ADD_LO, 28, 27, 0x4C",
+    );
     assert_eq!(reg(&m, 25), 0x56);
     assert_eq!(reg(&m, 28), 0x56);
 }
@@ -367,7 +371,9 @@ fn queue_push_head_returns_remaining_space() {
 
 #[test]
 fn queue_pop_head_takes_the_newest() {
-    let m = run_ok("CLD Q_INIT, 10, 27, 3\nCLD Q_PUSH_HEAD, 10, 27, 1\nCLD Q_PUSH_HEAD, 10, 27, 2\nCLD Q_POP_HEAD_ERR, 33, 27, 0");
+    let m = run_ok(
+        "CLD Q_INIT, 10, 27, 3\nCLD Q_PUSH_HEAD, 10, 27, 1\nCLD Q_PUSH_HEAD, 10, 27, 2\nCLD Q_POP_HEAD_ERR, 33, 27, 0",
+    );
     assert_eq!(reg(&m, 33), 2);
     assert_eq!(ureg(&m, 28) >> 16, 1, "head back on slot 1 (R30)");
 }
@@ -375,7 +381,9 @@ fn queue_pop_head_takes_the_newest() {
 #[test]
 fn queue_push_tail_goes_below_the_tail() {
     // After pushing 1, 2 at the head, a tail push wraps to slot 2 (R31) and leaves 1 free.
-    let m = run_ok("CLD Q_INIT, 10, 27, 3\nCLD Q_PUSH_HEAD, 10, 27, 1\nCLD Q_PUSH_HEAD, 10, 27, 2\nCLD Q_PUSH_TAIL_ERR, 33, 27, 100");
+    let m = run_ok(
+        "CLD Q_INIT, 10, 27, 3\nCLD Q_PUSH_HEAD, 10, 27, 1\nCLD Q_PUSH_HEAD, 10, 27, 2\nCLD Q_PUSH_TAIL_ERR, 33, 27, 100",
+    );
     assert_eq!(reg(&m, 31), 100);
     assert_eq!(reg(&m, 33), 0);
     assert_eq!(ureg(&m, 28) & 0xFFFF, 2, "tail on slot 2");
@@ -383,7 +391,9 @@ fn queue_push_tail_goes_below_the_tail() {
 
 #[test]
 fn queue_pop_tail_takes_the_oldest() {
-    let m = run_ok("CLD Q_INIT, 10, 27, 3\nCLD Q_PUSH_HEAD, 10, 27, 1\nCLD Q_PUSH_HEAD, 10, 27, 2\nCLD Q_PUSH_HEAD, 10, 27, 3\nCLD Q_POP_TAIL_ERR, 33, 27, 0");
+    let m = run_ok(
+        "CLD Q_INIT, 10, 27, 3\nCLD Q_PUSH_HEAD, 10, 27, 1\nCLD Q_PUSH_HEAD, 10, 27, 2\nCLD Q_PUSH_HEAD, 10, 27, 3\nCLD Q_POP_TAIL_ERR, 33, 27, 0",
+    );
     assert_eq!(reg(&m, 33), 1);
     assert_eq!(ureg(&m, 28) & 0xFFFF, 1, "tail moved up to slot 1 (R30)");
 }

@@ -25,7 +25,12 @@ pub fn run(source: &str) -> SilverLode {
 /// Run and require the program to have ended normally.
 pub fn run_ok(source: &str) -> SilverLode {
     let m = run(source);
-    assert_eq!(m.run_state(), RunState::Ended, "fault: {:?}\n{source}", m.fault());
+    assert_eq!(
+        m.run_state(),
+        RunState::Ended,
+        "fault: {:?}\n{source}",
+        m.fault()
+    );
     m
 }
 
