@@ -7,3 +7,4 @@
 pub mod debugger;
 pub mod machine;
 pub mod runner;
+pub mod ui;

@@ -49,13 +49,14 @@ fn main() -> ExitCode {
             inputs,
             json,
         }) => ExitCode::from(run(&file, max_ticks, &inputs, json)),
-        None => {
-            eprintln!(
-                "servoscope: the debugger window is not built yet; use `servoscope run FILE`"
-            );
-            let _ = cli.file;
-            ExitCode::from(2)
-        }
+        None => match servoscope::ui::run_gui(cli.file) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("servoscope: cannot open the window: {e}");
+                eprintln!("(no display? `servoscope run FILE` works without one)");
+                ExitCode::from(2)
+            }
+        },
     }
 }
 

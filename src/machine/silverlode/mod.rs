@@ -567,7 +567,7 @@ impl SilverLode {
             ClcOp::MultS | ClcOp::MultU => (10, acc.wrapping_mul(x), 0),
             ClcOp::Div | ClcOp::Mod => {
                 let divisor = sx16(lo(x));
-                check_divisor(acc, divisor, &format!("LO(R{reg})"))?;
+                check_divisor(acc, divisor, &format!("LO(R{reg}) of 0x{:08X}", x as u32))?;
                 if op == ClcOp::Div {
                     (10, acc / divisor, 0)
                 } else {
@@ -629,7 +629,7 @@ impl SilverLode {
             ExtOp::MultS64Shr16 => ((i64::from(a) * i64::from(d)) >> 16) as i32,
             ExtOp::Div | ExtOp::Mod => {
                 let divisor = sx16(lo(d));
-                check_divisor(a, divisor, "LO(data)")?;
+                check_divisor(a, divisor, &format!("LO(data) of 0x{:08X}", d as u32))?;
                 if op == ExtOp::Div {
                     a / divisor
                 } else {
@@ -638,7 +638,7 @@ impl SilverLode {
             }
             ExtOp::DivRev | ExtOp::ModRev => {
                 let divisor = sx16(lo(a));
-                check_divisor(d, divisor, &format!("LO(R{reg1})"))?;
+                check_divisor(d, divisor, &format!("LO(R{reg1}) of 0x{:08X}", a as u32))?;
                 if op == ExtOp::DivRev {
                     d / divisor
                 } else {

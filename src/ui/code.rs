@@ -1,0 +1,473 @@
+//! The program view: line numbers, breakpoints in the gutter, syntax colouring, the line about
+//! to run highlighted and kept in view, errors underlined on their lines, and the problems list.
+
+use egui::text::{CCursor, CCursorRange, LayoutJob, TextFormat};
+use egui::{FontId, Id, Rect, RichText, Sense, Stroke, TextStyle, Vec2, pos2, vec2};
+
+use super::Command;
+use super::theme::{Palette, palette};
+use crate::debugger::Debugger;
+use crate::machine::silverlode::assembler::{ALIASES, MNEMONICS};
+use crate::machine::silverlode::{ClcOp, CondBit, ExtOp};
+use crate::machine::{Diagnostic, Machine};
+
+pub const TEXT_ID: &str = "program_text";
+
+#[derive(Default)]
+pub struct CodeView {
+    /// Line of the text cursor (for F9 and Run to cursor), 1-based.
+    pub cursor_line: Option<usize>,
+    /// The pc line the view last scrolled to.
+    last_pc_line: Option<usize>,
+    /// A line to move the cursor to and show (clicked in the problems list).
+    pub pending_jump: Option<usize>,
+}
+
+impl CodeView {
+    pub fn reset_view(&mut self) {
+        *self = CodeView::default();
+    }
+
+    /// The line F9 and Ctrl+F10 act on: the text cursor's, else the one about to run.
+    pub fn target_line(&self, debugger: &Debugger) -> Option<usize> {
+        self.cursor_line.or_else(|| debugger.machine().pc_line())
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    Plain,
+    Mnemonic,
+    Operation,
+    Number,
+    Register,
+    Label,
+    Comment,
+    Condition,
+}
+
+fn kind_of_word(word: &str, first_word: bool) -> Kind {
+    let upper = word.to_ascii_uppercase();
+    if first_word && MNEMONICS.contains(&upper.as_str()) {
+        Kind::Mnemonic
+    } else if ClcOp::parse(word).is_some() || ExtOp::parse(word).is_some() {
+        Kind::Operation
+    } else if CondBit::parse(word).is_some() {
+        Kind::Condition
+    } else if ALIASES.iter().any(|(a, _)| a.eq_ignore_ascii_case(word))
+        || (upper.starts_with('R')
+            && upper.len() > 1
+            && upper[1..].chars().all(|c| c.is_ascii_digit()))
+    {
+        Kind::Register
+    } else if upper == "Q16" {
+        Kind::Number
+    } else {
+        Kind::Label
+    }
+}
+
+/// Colour classes for every character of one line (without its newline).
+fn classify(line: &str) -> Vec<Kind> {
+    let chars: Vec<char> = line.chars().collect();
+    let mut kinds = vec![Kind::Plain; chars.len()];
+    let mut i = 0;
+    let mut seen_word = false;
+    while i < chars.len() {
+        let c = chars[i];
+        if c == ';' {
+            kinds[i..].fill(Kind::Comment);
+            break;
+        }
+        if c.is_ascii_alphabetic() || c == '_' {
+            let start = i;
+            while i < chars.len() && (chars[i].is_ascii_alphanumeric() || chars[i] == '_') {
+                i += 1;
+            }
+            let word: String = chars[start..i].iter().collect();
+            let is_label_def = !seen_word && chars.get(i) == Some(&':');
+            let kind = if is_label_def {
+                Kind::Label
+            } else {
+                let k = kind_of_word(&word, !seen_word);
+                seen_word = true;
+                k
+            };
+            kinds[start..i].fill(kind);
+            if is_label_def {
+                kinds[i] = Kind::Label;
+                i += 1;
+            }
+            continue;
+        }
+        if c.is_ascii_digit() || (c == '-' && chars.get(i + 1).is_some_and(char::is_ascii_digit)) {
+            let start = i;
+            i += 1;
+            while i < chars.len()
+                && (chars[i].is_ascii_alphanumeric() || chars[i] == '_' || chars[i] == '.')
+            {
+                i += 1;
+            }
+            kinds[start..i].fill(Kind::Number);
+            continue;
+        }
+        if c == '!' {
+            kinds[i] = Kind::Condition;
+        }
+        i += 1;
+    }
+    kinds
+}
+
+fn color(p: &Palette, kind: Kind) -> egui::Color32 {
+    match kind {
+        Kind::Plain => p.text,
+        Kind::Mnemonic => p.mnemonic,
+        Kind::Operation => p.operation,
+        Kind::Number => p.number,
+        Kind::Register => p.register,
+        Kind::Label => p.label,
+        Kind::Comment => p.comment,
+        Kind::Condition => p.condition,
+    }
+}
+
+/// The whole text as a coloured layout, errors underlined. The job's text is exactly `text`.
+pub fn highlight(text: &str, diagnostics: &[Diagnostic], p: &Palette, font: &FontId) -> LayoutJob {
+    let mut job = LayoutJob::default();
+    for (index, line) in text.split_inclusive('\n').enumerate() {
+        let number = index + 1;
+        let body = line.strip_suffix('\n').unwrap_or(line);
+        let body = body.strip_suffix('\r').unwrap_or(body);
+        let kinds = classify(body);
+        let mut error = vec![false; kinds.len()];
+        for d in diagnostics.iter().filter(|d| d.line == number) {
+            let start = (d.col - 1).min(error.len());
+            let end = (start + d.len).min(error.len());
+            error[start..end].fill(true);
+        }
+        let chars: Vec<(usize, char)> = line.char_indices().collect();
+        let mut start = 0;
+        while start < chars.len() {
+            let style = |i: usize| (kinds.get(i).copied(), error.get(i).copied());
+            let mut end = start + 1;
+            while end < chars.len() && style(end) == style(start) {
+                end += 1;
+            }
+            let from = chars[start].0;
+            let to = chars.get(end).map_or(line.len(), |&(b, _)| b);
+            let (kind, is_error) = style(start);
+            job.append(
+                &line[from..to],
+                0.0,
+                TextFormat {
+                    font_id: font.clone(),
+                    color: color(p, kind.unwrap_or(Kind::Plain)),
+                    underline: if is_error == Some(true) {
+                        Stroke::new(2.0, p.error)
+                    } else {
+                        Stroke::NONE
+                    },
+                    ..Default::default()
+                },
+            );
+            start = end;
+        }
+    }
+    job.wrap.max_width = f32::INFINITY;
+    job
+}
+
+fn line_of_char(text: &str, char_index: usize) -> usize {
+    text.chars().take(char_index).filter(|&c| c == '\n').count() + 1
+}
+
+fn char_of_line(text: &str, line: usize) -> usize {
+    if line <= 1 {
+        return 0;
+    }
+    let mut seen = 1;
+    for (i, c) in text.chars().enumerate() {
+        if c == '\n' {
+            seen += 1;
+            if seen == line {
+                return i + 1;
+            }
+        }
+    }
+    text.chars().count()
+}
+
+pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &mut Vec<Command>) {
+    let p = palette(ui.visuals().dark_mode);
+    if !debugger.diagnostics().is_empty() {
+        problems(ui, debugger, view);
+    }
+    let header = ui
+        .horizontal(|ui| {
+            let label = ui.strong("Program");
+            ui.label(RichText::new(debugger.name()).monospace());
+            if debugger.is_edited() {
+                ui.label(
+                    RichText::new("edited: Ctrl+Enter assembles (or just step / run)")
+                        .color(p.written),
+                );
+            }
+            label.id
+        })
+        .inner;
+    let font = TextStyle::Monospace.resolve(ui.style());
+    let row_height = ui.fonts_mut(|f| f.row_height(&font));
+    let char_width = ui.fonts_mut(|f| f.glyph_width(&font, '0'));
+    let mut text = debugger.source().to_string();
+    let line_count = text.lines().count().max(1) + usize::from(text.ends_with('\n'));
+    let digits = line_count.to_string().len().max(3);
+    let gutter_width = char_width * (digits as f32 + 3.5);
+    let machine = debugger.machine();
+    let pc_line = machine.pc_line().filter(|_| machine.run_state().is_live());
+    let fault_line = machine.fault().map(|f| f.line);
+    let text_id = Id::unique(TEXT_ID);
+
+    let jump = view.pending_jump.take();
+    if let Some(line) = jump {
+        let ctx = ui.ctx().clone();
+        if let Some(mut state) = egui::TextEdit::load_state(&ctx, text_id) {
+            let index = char_of_line(&text, line);
+            state
+                .cursor
+                .set_char_range(Some(CCursorRange::one(CCursor::new(index))));
+            state.store(&ctx, text_id);
+        }
+        ctx.memory_mut(|m| m.request_focus(text_id));
+        view.cursor_line = Some(line);
+    }
+
+    egui::ScrollArea::both()
+        .id_salt("code_scroll")
+        .auto_shrink([false, false])
+        .show(ui, |ui| {
+            ui.horizontal_top(|ui| {
+                ui.spacing_mut().item_spacing.x = 0.0;
+                let (gutter, _) = ui.allocate_exact_size(
+                    vec2(gutter_width, row_height * line_count as f32),
+                    Sense::hover(),
+                );
+                let text_left = gutter.right() + 4.0;
+                let top = gutter.top();
+                let row_rect = |line: usize| {
+                    Rect::from_min_size(
+                        pos2(text_left, top + (line - 1) as f32 * row_height),
+                        vec2(ui.clip_rect().right() - text_left + 2000.0, row_height),
+                    )
+                };
+                for (line, fill) in [(pc_line, p.current_line), (fault_line, p.fault_line)] {
+                    if let Some(line) = line {
+                        ui.painter().rect_filled(row_rect(line), 0.0, fill);
+                    }
+                }
+                let scroll_to = jump.or_else(|| pc_moved(view, pc_line));
+                if let Some(line) = scroll_to {
+                    ui.scroll_to_rect(row_rect(line).with_max_x(text_left + 200.0), None);
+                }
+
+                let diagnostics = debugger.diagnostics();
+                let mut layouter = |ui: &egui::Ui, buf: &dyn egui::TextBuffer, _wrap: f32| {
+                    let job = highlight(buf.as_str(), diagnostics, &p, &font);
+                    ui.fonts_mut(|f| f.layout_job(job))
+                };
+                let output = egui::TextEdit::multiline(&mut text)
+                    .id(text_id)
+                    .font(font.clone())
+                    .frame(egui::Frame::NONE)
+                    .margin(egui::Margin::ZERO)
+                    .desired_width(f32::INFINITY)
+                    .desired_rows(line_count)
+                    .lock_focus(true)
+                    .layouter(&mut layouter)
+                    .show(ui);
+                egui::Response::clone(&output.response).labelled_by(header);
+                if output.response.changed() {
+                    out.push(Command::EditSource(text.clone()));
+                }
+                if let Some(range) = output.cursor_range {
+                    view.cursor_line = Some(line_of_char(&text, range.primary.index.0));
+                }
+                if let Some(pos) = output.response.hover_pos() {
+                    let line = ((pos.y - top) / row_height) as usize + 1;
+                    let messages: Vec<String> = diagnostics
+                        .iter()
+                        .filter(|d| d.line == line)
+                        .map(|d| format!("{}:{}: {}", d.line, d.col, d.message))
+                        .collect();
+                    if !messages.is_empty() {
+                        egui::Response::clone(&output.response)
+                            .on_hover_text_at_pointer(messages.join("\n"));
+                    }
+                }
+                gutter_ui(
+                    ui, debugger, gutter, row_height, line_count, pc_line, &p, &font, out,
+                );
+            });
+        });
+}
+
+/// The line about to run, when it moved since the last frame: scroll it into view once.
+fn pc_moved(view: &mut CodeView, pc_line: Option<usize>) -> Option<usize> {
+    if pc_line.is_some() && pc_line != view.last_pc_line {
+        view.last_pc_line = pc_line;
+        return pc_line;
+    }
+    None
+}
+
+#[allow(clippy::too_many_arguments)]
+fn gutter_ui(
+    ui: &mut egui::Ui,
+    debugger: &Debugger,
+    gutter: Rect,
+    row_height: f32,
+    line_count: usize,
+    pc_line: Option<usize>,
+    p: &Palette,
+    font: &FontId,
+    out: &mut Vec<Command>,
+) {
+    let clip = ui.clip_rect();
+    let first = (((clip.top() - gutter.top()) / row_height).floor().max(0.0) as usize) + 1;
+    let last = ((((clip.bottom() - gutter.top()) / row_height).ceil()) as usize).min(line_count);
+    let error_lines: Vec<usize> = debugger.diagnostics().iter().map(|d| d.line).collect();
+    for line in first..=last {
+        let row = Rect::from_min_size(
+            pos2(gutter.left(), gutter.top() + (line - 1) as f32 * row_height),
+            vec2(gutter.width(), row_height),
+        );
+        let id = Id::unique(("gutter", line));
+        let response = ui.interact(row, id, Sense::click());
+        let label = format!("Breakpoint line {line}");
+        let has_bp = debugger.breakpoints().contains(&line);
+        response
+            .widget_info(|| egui::WidgetInfo::selected(egui::Role::CheckBox, true, has_bp, &label));
+        if response.clicked() {
+            out.push(Command::ToggleBreakpoint(line));
+        }
+        let painter = ui.painter();
+        let has_error = error_lines.contains(&line);
+        if response.hovered() && !has_bp {
+            painter.circle_filled(
+                row.left_center() + vec2(row_height * 0.5, 0.0),
+                row_height * 0.3,
+                p.breakpoint.gamma_multiply(0.35),
+            );
+        }
+        if has_bp {
+            painter.circle_filled(
+                row.left_center() + vec2(row_height * 0.5, 0.0),
+                row_height * 0.32,
+                p.breakpoint,
+            );
+        }
+        if pc_line == Some(line) {
+            let tip = row.left_center() + vec2(row_height * 1.45, 0.0);
+            let h = row_height * 0.3;
+            painter.add(egui::Shape::convex_polygon(
+                vec![
+                    tip + vec2(-h * 1.3, -h),
+                    tip + vec2(0.0, 0.0),
+                    tip + vec2(-h * 1.3, h),
+                ],
+                p.written,
+                Stroke::NONE,
+            ));
+        }
+        let number_color = if has_error { p.error } else { p.dim };
+        painter.text(
+            row.right_center() - vec2(6.0, 0.0),
+            egui::Align2::RIGHT_CENTER,
+            line.to_string(),
+            font.clone(),
+            number_color,
+        );
+        if has_error {
+            let messages: Vec<String> = debugger
+                .diagnostics()
+                .iter()
+                .filter(|d| d.line == line)
+                .map(|d| d.message.clone())
+                .collect();
+            response.on_hover_text(messages.join("\n"));
+        }
+    }
+}
+
+/// The problems list: every diagnostic; clicking one moves the cursor to its line.
+fn problems(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView) {
+    let p = palette(ui.visuals().dark_mode);
+    egui::Panel::bottom("problems")
+        .resizable(true)
+        .default_size(120.0)
+        .min_size(60.0)
+        .show(ui, |ui| {
+            ui.horizontal(|ui| {
+                ui.strong(format!("Problems ({})", debugger.diagnostics().len()));
+                ui.label(egui::RichText::new("Nothing runs until these are fixed.").color(p.dim));
+            });
+            egui::ScrollArea::vertical()
+                .id_salt("problems_scroll")
+                .auto_shrink([false, false])
+                .show(ui, |ui| {
+                    for d in debugger.diagnostics() {
+                        let text = format!("{}:{}  {}", d.line, d.col, d.message);
+                        let r = ui.add(
+                            egui::Button::selectable(
+                                false,
+                                egui::RichText::new(text).color(p.error),
+                            )
+                            .min_size(Vec2::ZERO),
+                        );
+                        if r.clicked() {
+                            view.pending_jump = Some(d.line);
+                        }
+                    }
+                });
+        });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn classify_colours_each_part() {
+        let kinds = classify("loop: CLD ADD, R25, 26, q16(1.5) ; hi");
+        assert!(kinds[0..5].iter().all(|&k| k == Kind::Label));
+        assert!(kinds[6..9].iter().all(|&k| k == Kind::Mnemonic));
+        assert!(kinds[10..13].iter().all(|&k| k == Kind::Operation));
+        assert!(kinds[15..18].iter().all(|&k| k == Kind::Register));
+        assert!(kinds[20..22].iter().all(|&k| k == Kind::Number));
+        assert_eq!(*kinds.last().unwrap(), Kind::Comment);
+    }
+
+    #[test]
+    fn highlight_keeps_the_text_exactly() {
+        let text = "WRP 11, 1\r\n\nbad: BOGUS ; x\nü\n";
+        let diags = vec![Diagnostic::error(3, 6, 5, "unknown")];
+        let job = highlight(text, &diags, &palette(true), &FontId::monospace(12.0));
+        assert_eq!(job.text, text);
+        let underlined: String = job
+            .sections
+            .iter()
+            .filter(|s| s.format.underline != Stroke::NONE)
+            .map(|s| &job.text[s.byte_range.start.0..s.byte_range.end.0])
+            .collect();
+        assert_eq!(underlined, "BOGUS");
+    }
+
+    #[test]
+    fn lines_and_chars() {
+        let text = "a\nbc\nd";
+        assert_eq!(line_of_char(text, 0), 1);
+        assert_eq!(line_of_char(text, 3), 2);
+        assert_eq!(char_of_line(text, 3), 5);
+        assert_eq!(char_of_line(text, 1), 0);
+    }
+}

@@ -1,0 +1,104 @@
+//! What happened: the status bar (run state, tick, time, steps, the last command explained),
+//! the fault banner, and notices such as a file that could not be opened.
+
+use egui::RichText;
+
+use super::theme::palette;
+use crate::debugger::Debugger;
+use crate::machine::{Machine, RunState};
+
+/// The run state as the status bar words it.
+pub fn state_text(debugger: &Debugger) -> String {
+    let m = debugger.machine();
+    if debugger.has_errors() {
+        return "not assembled".to_string();
+    }
+    match (debugger.is_running(), m.run_state()) {
+        (true, RunState::Running) => "running".to_string(),
+        (true, state) => format!("running ({})", state.label()),
+        (false, RunState::Running) if m.ticks() == 0 => "ready".to_string(),
+        (false, RunState::Running) => "paused".to_string(),
+        (false, state) => state.label().to_string(),
+    }
+}
+
+pub fn status_bar(ui: &mut egui::Ui, debugger: &Debugger) {
+    let p = palette(ui.visuals().dark_mode);
+    let m = debugger.machine();
+    let ms = m.ticks() as f64 * f64::from(m.tick_micros()) / 1000.0;
+    ui.horizontal(|ui| {
+        let state = state_text(debugger);
+        let colour = match m.run_state() {
+            RunState::Faulted => p.error,
+            RunState::Ended => p.dim,
+            _ if debugger.is_running() => p.bit_on,
+            _ => p.text,
+        };
+        ui.label(RichText::new(state).color(colour).strong());
+        ui.separator();
+        ui.monospace(format!("tick {}", m.ticks()));
+        ui.separator();
+        ui.monospace(format!("{ms:.3} ms"));
+        ui.separator();
+        ui.monospace(format!("steps {}", m.steps()));
+        if let Some(event) = debugger.event() {
+            ui.separator();
+            ui.label(RichText::new(event.describe()).color(p.dim));
+        }
+    });
+    ui.horizontal(|ui| {
+        let line = m
+            .last_line()
+            .map_or(String::new(), |l| format!("line {l}: "));
+        let text = match m.explain_last() {
+            Some(e) => format!("{line}{e}"),
+            None => "Press F10 to step, F5 to run.".to_string(),
+        };
+        ui.label(RichText::new(text).monospace().color(p.text));
+    });
+}
+
+pub fn fault_banner(ui: &mut egui::Ui, debugger: &Debugger) {
+    let Some(fault) = debugger.machine().fault() else {
+        return;
+    };
+    let p = palette(ui.visuals().dark_mode);
+    egui::Frame::new()
+        .fill(p.error.gamma_multiply(0.25))
+        .stroke(egui::Stroke::new(1.0, p.error))
+        .inner_margin(6.0)
+        .corner_radius(4.0)
+        .show(ui, |ui| {
+            ui.set_width(ui.available_width());
+            ui.label(
+                RichText::new(format!("Fault: {} at line {}", fault.kind, fault.line))
+                    .strong()
+                    .color(p.error),
+            );
+            ui.label(&fault.message);
+            ui.label(
+                RichText::new(
+                    "Every register keeps its value: inspect them, then Reset (Ctrl+Shift+F5).",
+                )
+                .small()
+                .color(p.dim),
+            );
+        });
+}
+
+/// A dismissible message. Returns true when dismissed.
+pub fn notice_banner(ui: &mut egui::Ui, text: &str) -> bool {
+    let p = palette(ui.visuals().dark_mode);
+    let mut dismissed = false;
+    egui::Frame::new()
+        .fill(p.written.gamma_multiply(0.2))
+        .inner_margin(6.0)
+        .corner_radius(4.0)
+        .show(ui, |ui| {
+            ui.horizontal(|ui| {
+                ui.label(text);
+                dismissed = ui.button("Dismiss").clicked();
+            });
+        });
+    dismissed
+}

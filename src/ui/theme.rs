@@ -1,0 +1,74 @@
+//! Colours: the egui theme and the syntax / state colours the panels share.
+
+use egui::Color32;
+
+pub fn apply(ctx: &egui::Context, dark: bool) {
+    ctx.set_theme(if dark {
+        egui::Theme::Dark
+    } else {
+        egui::Theme::Light
+    });
+}
+
+/// Colours that depend on the theme.
+#[derive(Clone, Copy)]
+pub struct Palette {
+    pub mnemonic: Color32,
+    pub operation: Color32,
+    pub number: Color32,
+    pub register: Color32,
+    pub label: Color32,
+    pub comment: Color32,
+    pub condition: Color32,
+    pub text: Color32,
+    pub current_line: Color32,
+    pub fault_line: Color32,
+    pub breakpoint: Color32,
+    pub error: Color32,
+    pub written: Color32,
+    pub bit_on: Color32,
+    pub bit_off: Color32,
+    pub dim: Color32,
+}
+
+pub fn palette(dark: bool) -> Palette {
+    if dark {
+        Palette {
+            mnemonic: Color32::from_rgb(86, 156, 214),
+            operation: Color32::from_rgb(78, 201, 176),
+            number: Color32::from_rgb(181, 206, 168),
+            register: Color32::from_rgb(156, 220, 254),
+            label: Color32::from_rgb(220, 220, 170),
+            comment: Color32::from_rgb(106, 153, 85),
+            condition: Color32::from_rgb(197, 134, 192),
+            text: Color32::from_rgb(212, 212, 212),
+            current_line: Color32::from_rgba_unmultiplied(255, 210, 0, 40),
+            fault_line: Color32::from_rgba_unmultiplied(255, 60, 60, 60),
+            breakpoint: Color32::from_rgb(229, 20, 0),
+            error: Color32::from_rgb(244, 71, 71),
+            written: Color32::from_rgb(255, 200, 60),
+            bit_on: Color32::from_rgb(60, 170, 90),
+            bit_off: Color32::from_gray(60),
+            dim: Color32::from_gray(130),
+        }
+    } else {
+        Palette {
+            mnemonic: Color32::from_rgb(0, 0, 255),
+            operation: Color32::from_rgb(38, 127, 153),
+            number: Color32::from_rgb(9, 134, 88),
+            register: Color32::from_rgb(0, 16, 128),
+            label: Color32::from_rgb(121, 94, 38),
+            comment: Color32::from_rgb(0, 128, 0),
+            condition: Color32::from_rgb(175, 0, 219),
+            text: Color32::from_rgb(30, 30, 30),
+            current_line: Color32::from_rgba_unmultiplied(255, 200, 0, 70),
+            fault_line: Color32::from_rgba_unmultiplied(255, 0, 0, 50),
+            breakpoint: Color32::from_rgb(210, 20, 0),
+            error: Color32::from_rgb(205, 0, 0),
+            written: Color32::from_rgb(190, 110, 0),
+            bit_on: Color32::from_rgb(40, 150, 70),
+            bit_off: Color32::from_gray(215),
+            dim: Color32::from_gray(120),
+        }
+    }
+}
