@@ -19,6 +19,9 @@ struct Cli {
     command: Option<Command>,
     /// A program (.qsl) to open in the debugger.
     file: Option<PathBuf>,
+    /// Measure frame times: run FILE unlimited for N frames, print median and worst, close.
+    #[arg(long, value_name = "N", hide = true)]
+    frame_stats: Option<usize>,
 }
 
 #[derive(Subcommand)]
@@ -49,7 +52,7 @@ fn main() -> ExitCode {
             inputs,
             json,
         }) => ExitCode::from(run(&file, max_ticks, &inputs, json)),
-        None => match servoscope::ui::run_gui(cli.file) {
+        None => match servoscope::ui::run_gui(cli.file, cli.frame_stats) {
             Ok(()) => ExitCode::SUCCESS,
             Err(e) => {
                 eprintln!("servoscope: cannot open the window: {e}");

@@ -255,3 +255,35 @@ fn opening_a_path_typed_in_the_open_window() {
     h.get_by_label_contains("Cannot open");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A file handed over by the window system, as egui sees it.
+#[derive(Debug)]
+struct Dropped(std::path::PathBuf);
+
+impl egui::DroppedFile for Dropped {
+    fn path(&self) -> &std::path::Path {
+        &self.0
+    }
+    fn bytes(&self) -> Result<Vec<u8>, String> {
+        std::fs::read(&self.0).map_err(|e| e.to_string())
+    }
+}
+
+#[test]
+fn dropping_a_file_on_the_window_opens_it() {
+    let path = std::env::temp_dir().join(format!("servoscope-drop-{}.qsl", std::process::id()));
+    std::fs::write(&path, "WRP 31, 7\nEND\n").unwrap();
+    let mut h = harness(ServoscopeApp::new(Prefs::default()));
+    h.input_mut()
+        .dropped_files
+        .push(std::sync::Arc::new(Dropped(path.clone())));
+    h.run_steps(2);
+    assert_eq!(
+        h.state().debugger.name(),
+        path.file_name().unwrap().to_str().unwrap()
+    );
+    h.key_press(Key::F10);
+    h.run_steps(1);
+    assert_eq!(h.state().debugger.machine().reg(31), 7);
+    let _ = std::fs::remove_file(&path);
+}

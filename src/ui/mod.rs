@@ -41,9 +41,19 @@ pub const EXAMPLES: &[(&str, &str)] = &[
     ),
 ];
 
-/// Simulation time allowed per frame while running unlimited: the rest of a 16 ms frame is
-/// left for drawing.
-pub const RUN_BUDGET: Duration = Duration::from_millis(8);
+/// The frame time aimed at while running unlimited (under 60 fps's 16.7 ms, with room for jitter).
+pub const TARGET_FRAME: Duration = Duration::from_millis(15);
+/// Bounds of the simulation slice per frame: always some progress, never a sluggish window.
+pub const MIN_RUN_SLICE: Duration = Duration::from_millis(2);
+pub const MAX_RUN_SLICE: Duration = Duration::from_millis(12);
+
+/// The run slice for the next frame: what the target frame leaves after drawing, where
+/// `overhead` is the smoothed part of recent frames not spent simulating.
+pub fn run_slice(overhead: Duration) -> Duration {
+    TARGET_FRAME
+        .saturating_sub(overhead)
+        .clamp(MIN_RUN_SLICE, MAX_RUN_SLICE)
+}
 
 /// What a user asked for, from a panel, the menu or a key.
 #[derive(Clone, Debug, PartialEq)]
@@ -96,8 +106,57 @@ impl Default for Prefs {
 pub const PREFS_KEY: &str = "servoscope-prefs";
 const MAX_RECENT: usize = 10;
 
+/// Frame-time measurement (`servoscope --frame-stats N FILE`): runs the program unlimited and
+/// reports the frame interval and the time spent in `ui`, median and worst, over N frames.
+pub struct FrameStats {
+    frames: usize,
+    warmup: usize,
+    intervals: Vec<f64>,
+    work: Vec<f64>,
+    last: Option<Instant>,
+}
+
+impl FrameStats {
+    pub fn new(frames: usize) -> Self {
+        FrameStats {
+            frames: frames.max(1),
+            warmup: 30,
+            intervals: Vec::new(),
+            work: Vec::new(),
+            last: None,
+        }
+    }
+
+    fn record(&mut self, started: Instant, finished: Instant) -> Option<String> {
+        if let Some(last) = self.last {
+            if self.warmup > 0 {
+                self.warmup -= 1;
+            } else {
+                self.intervals
+                    .push(started.duration_since(last).as_secs_f64() * 1e3);
+                self.work
+                    .push(finished.duration_since(started).as_secs_f64() * 1e3);
+            }
+        }
+        self.last = Some(started);
+        (self.intervals.len() >= self.frames).then(|| {
+            let stats = |v: &mut Vec<f64>| {
+                v.sort_by(f64::total_cmp);
+                (v[v.len() / 2], v[v.len() - 1])
+            };
+            let (interval_median, interval_worst) = stats(&mut self.intervals);
+            let (work_median, work_worst) = stats(&mut self.work);
+            format!(
+                "{} frames running unlimited: frame interval median {interval_median:.2} ms, worst {interval_worst:.2} ms; time in ui (simulation + layout) median {work_median:.2} ms, worst {work_worst:.2} ms",
+                self.frames
+            )
+        })
+    }
+}
+
 pub struct ServoscopeApp {
     pub debugger: Debugger,
+    pub frame_stats: Option<FrameStats>,
     pub path: Option<PathBuf>,
     pub prefs: Prefs,
     pub code: code::CodeView,
@@ -107,6 +166,9 @@ pub struct ServoscopeApp {
     pub notice: Option<String>,
     title: String,
     last_frame: Option<Instant>,
+    /// Smoothed frame time not spent simulating (drawing, presenting, waiting).
+    overhead: Duration,
+    last_slice: Duration,
     theme_applied: Option<bool>,
 }
 
@@ -125,8 +187,11 @@ impl ServoscopeApp {
             registers,
             files: files::Files::default(),
             notice: None,
+            frame_stats: None,
             title: String::new(),
             last_frame: None,
+            overhead: Duration::from_millis(8),
+            last_slice: Duration::ZERO,
             theme_applied: None,
         }
     }
@@ -230,13 +295,21 @@ impl ServoscopeApp {
         }
 
         let now = Instant::now();
-        let dt = self
-            .last_frame
-            .map_or(0.0, |t| now.duration_since(t).as_secs_f64());
+        let interval = self.last_frame.map(|t| now.duration_since(t));
         self.last_frame = Some(now);
-        if self.debugger.advance(dt, RUN_BUDGET) {
+        if let Some(interval) = interval
+            && self.debugger.is_running()
+        {
+            let overhead = interval.saturating_sub(self.last_slice);
+            self.overhead = (self.overhead * 7 + overhead) / 8;
+        }
+        let slice = run_slice(self.overhead);
+        let dt = interval.map_or(0.0, |d| d.as_secs_f64());
+        let sim_start = Instant::now();
+        if self.debugger.advance(dt, slice) {
             ctx.request_repaint();
         }
+        self.last_slice = sim_start.elapsed();
 
         egui::Panel::top("menu").show(ui, |ui| {
             controls::menu_bar(ui, self, &mut commands);
@@ -284,7 +357,16 @@ impl ServoscopeApp {
 
 impl eframe::App for ServoscopeApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        let started = Instant::now();
         self.show(ui);
+        if let Some(stats) = &mut self.frame_stats {
+            if let Some(report) = stats.record(started, Instant::now()) {
+                eprintln!("{report}");
+                ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
+                self.frame_stats = None;
+            }
+            ui.ctx().request_repaint();
+        }
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
@@ -293,7 +375,8 @@ impl eframe::App for ServoscopeApp {
 }
 
 /// Start the window. `file`: a program to open instead of the built-in example.
-pub fn run_gui(file: Option<PathBuf>) -> eframe::Result {
+/// `frame_stats`: run it unlimited and report frame times over that many frames, then close.
+pub fn run_gui(file: Option<PathBuf>, frame_stats: Option<usize>) -> eframe::Result {
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title("servoscope")
@@ -310,10 +393,37 @@ pub fn run_gui(file: Option<PathBuf>) -> eframe::Result {
                 .storage
                 .and_then(|s| eframe::get_value(s, PREFS_KEY))
                 .unwrap_or_default();
-            Ok(Box::new(match file {
+            let mut app = match file {
                 Some(path) => ServoscopeApp::with_file(prefs, path),
                 None => ServoscopeApp::new(prefs),
-            }))
+            };
+            if let Some(frames) = frame_stats {
+                app.frame_stats = Some(FrameStats::new(frames));
+                app.debugger.set_speed(Speed::Unlimited);
+                app.debugger.run();
+            }
+            Ok(Box::new(app))
         }),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_run_slice_is_what_the_frame_leaves() {
+        let ms = Duration::from_millis;
+        assert_eq!(run_slice(ms(11)), ms(4));
+        assert_eq!(
+            run_slice(ms(40)),
+            MIN_RUN_SLICE,
+            "slow drawing still makes progress"
+        );
+        assert_eq!(
+            run_slice(ms(0)),
+            MAX_RUN_SLICE,
+            "fast drawing does not starve the frame"
+        );
+    }
 }
