@@ -5,6 +5,7 @@
 //! [`Debugger::advance`] once per frame with a time budget, so a run never blocks a frame.
 
 pub mod format;
+pub mod trace;
 
 use std::collections::BTreeSet;
 use std::sync::Arc;
@@ -12,6 +13,7 @@ use std::time::{Duration, Instant};
 
 use crate::machine::silverlode::{ServoSettings, SilverLode, assemble};
 use crate::machine::{Diagnostic, Machine, RunState, StopReason};
+use trace::Trace;
 
 /// Ticks run between two looks at the clock while running unlimited.
 const CHUNK_TICKS: u64 = 20_000;
@@ -109,6 +111,12 @@ pub struct Debugger {
     /// Commands owed at slow speeds (fractions carry over between frames).
     credit: f64,
     event: Option<Event>,
+    trace: Trace,
+}
+
+/// The values the trace keeps for a tick.
+fn motion_values(m: &SilverLode) -> [i32; 4] {
+    [m.reg(0), m.reg(1), m.reg(6), m.reg(7)]
 }
 
 impl Debugger {
@@ -135,9 +143,44 @@ impl Debugger {
             speed: Speed::PerSecond(10.0),
             credit: 0.0,
             event: None,
+            trace: Trace::default(),
         };
         d.assemble();
         d
+    }
+
+    /// The motion trace since the last reset.
+    pub fn trace(&self) -> &Trace {
+        &self.trace
+    }
+
+    fn restart_trace(&mut self) {
+        self.trace.clear();
+        self.record_now();
+    }
+
+    fn record_now(&mut self) {
+        self.trace
+            .record(self.machine.ticks(), motion_values(&self.machine));
+    }
+
+    /// Advance until the current command completes, recording every tick.
+    fn step_recorded(&mut self, max_ticks: u64) -> StopReason {
+        let before = self.machine.ticks();
+        let limit = before.saturating_add(max_ticks);
+        loop {
+            if !self.machine.run_state().is_live() {
+                return StopReason::Stopped;
+            }
+            if self.machine.ticks() >= limit {
+                return StopReason::TickLimit;
+            }
+            self.machine.step_tick();
+            self.record_now();
+            if self.machine.run_state() == RunState::Running && self.machine.ticks() > before {
+                return StopReason::Predicate;
+            }
+        }
     }
 
     // ---- reading ---------------------------------------------------------------------------
@@ -216,6 +259,7 @@ impl Debugger {
                 self.assembled_source = self.source.clone();
                 self.diagnostics.clear();
                 self.event = Some(Event::Assembled);
+                self.restart_trace();
                 true
             }
             Err(diagnostics) => {
@@ -242,7 +286,7 @@ impl Debugger {
             return;
         }
         self.goal = None;
-        let reason = self.machine.step_command(STEP_TICKS_AT_ONCE);
+        let reason = self.step_recorded(STEP_TICKS_AT_ONCE);
         if reason == StopReason::TickLimit {
             self.goal = Some(Goal::FinishStep);
         } else {
@@ -257,6 +301,7 @@ impl Debugger {
         }
         self.goal = None;
         self.machine.step_tick();
+        self.record_now();
         self.after_stop(Event::Stepped);
     }
 
@@ -299,6 +344,7 @@ impl Debugger {
             for (i, &high) in inputs.iter().enumerate() {
                 self.machine.set_input(i, high);
             }
+            self.restart_trace();
         }
         self.event = Some(Event::Reset);
     }
@@ -354,21 +400,26 @@ impl Debugger {
         while commands > 0 {
             let skip = std::mem::take(&mut self.resume_past_breakpoint);
             let reason = if goal == Goal::FinishStep {
-                self.machine.step_command(CHUNK_TICKS)
+                self.step_recorded(CHUNK_TICKS)
             } else if commands == u64::MAX {
                 let limit = self.machine.ticks().saturating_add(CHUNK_TICKS);
                 let mut first = skip;
-                self.machine.run_until(limit, |m| {
-                    let stop = !first && stops_at(&bps, goal, m.pc_line());
-                    first = false;
-                    stop
-                })
+                let trace = &mut self.trace;
+                self.machine.run_observed(
+                    limit,
+                    |m| {
+                        let stop = !first && stops_at(&bps, goal, m.pc_line());
+                        first = false;
+                        stop
+                    },
+                    |m| trace.record(m.ticks(), motion_values(m)),
+                )
             } else {
                 if !skip && stops_at(&bps, goal, self.machine.pc_line()) {
                     StopReason::Predicate
                 } else {
                     commands -= 1;
-                    match self.machine.step_command(STEP_TICKS_AT_ONCE) {
+                    match self.step_recorded(STEP_TICKS_AT_ONCE) {
                         StopReason::Predicate => StopReason::TickLimit,
                         other => other,
                     }
@@ -435,6 +486,7 @@ impl Debugger {
 
     pub fn set_register(&mut self, index: usize, value: u32) {
         self.machine.set_register(index, value);
+        self.record_now();
     }
 
     /// Parse what the user typed and store it. On error nothing changes.

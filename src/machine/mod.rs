@@ -130,6 +130,20 @@ impl QueueHeader {
     }
 }
 
+/// What the last command did to a queue, for views that highlight it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct QueueAccess {
+    pub base: usize,
+    /// `init`, `push head`, `pop head`, `push tail`, `pop tail`, `read 0`, `read -1`, ...
+    pub action: String,
+    /// The slot written or read; `None` for init and for failed operations.
+    pub slot: Option<usize>,
+    /// False when the queue was full or empty (flag variant) or the command faulted.
+    pub ok: bool,
+    /// Why it failed, e.g. `full` or `empty`.
+    pub failure: Option<&'static str>,
+}
+
 /// Motion state in the units the registers use.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct MotionView {
@@ -193,6 +207,8 @@ pub trait Machine: Clone + PartialEq {
     fn explain_last(&self) -> Option<String>;
     /// 1-based line of the last executed command.
     fn last_line(&self) -> Option<usize>;
+    /// The queue the last command used, if it was a queue operation.
+    fn last_queue_access(&self) -> Option<QueueAccess>;
 
     /// Advance one tick.
     fn step_tick(&mut self);
@@ -200,5 +216,14 @@ pub trait Machine: Clone + PartialEq {
     fn step_command(&mut self, max_ticks: u64) -> StopReason;
     /// Run until the tick counter reaches `tick_limit`, the machine stops, or `stop` returns true.
     /// `stop` is asked before every command starts, never in the middle of one.
-    fn run_until<F: FnMut(&Self) -> bool>(&mut self, tick_limit: u64, stop: F) -> StopReason;
+    fn run_until<F: FnMut(&Self) -> bool>(&mut self, tick_limit: u64, stop: F) -> StopReason {
+        self.run_observed(tick_limit, stop, |_| {})
+    }
+    /// `run_until`, calling `observe` after every tick (traces record through it).
+    fn run_observed<F: FnMut(&Self) -> bool, O: FnMut(&Self)>(
+        &mut self,
+        tick_limit: u64,
+        stop: F,
+        observe: O,
+    ) -> StopReason;
 }

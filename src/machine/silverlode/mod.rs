@@ -28,8 +28,8 @@ pub use motion::ServoSettings;
 pub use program::{ClcOp, Cond, CondBit, ExtOp, Instr, MoveKind, Program};
 
 use crate::machine::{
-    BitInfo, FaultInfo, Machine, MotionView, QueueHeader, QueueView, RegisterInfo, RunState,
-    StatusWordView, StopReason, WaitReason,
+    BitInfo, FaultInfo, Machine, MotionView, QueueAccess, QueueHeader, QueueView, RegisterInfo,
+    RunState, StatusWordView, StopReason, WaitReason,
 };
 use motion::{FRAC, Motion};
 
@@ -1026,12 +1026,13 @@ impl SilverLode {
         self.s.isw = bits;
     }
 
-    /// Run at full speed; see [`Machine::run_until`].
+    /// Run at full speed; see [`Machine::run_observed`].
     #[inline]
-    pub fn run_fast<F: FnMut(&Self) -> bool>(
+    pub fn run_fast<F: FnMut(&Self) -> bool, O: FnMut(&Self)>(
         &mut self,
         tick_limit: u64,
         mut stop: F,
+        mut observe: O,
     ) -> StopReason {
         loop {
             match self.s.run {
@@ -1050,7 +1051,9 @@ impl SilverLode {
                     }
                 }
             }
-            self.tick();
+            if self.tick() {
+                observe(self);
+            }
         }
     }
 
@@ -1071,6 +1074,51 @@ impl SilverLode {
 
     fn line_of(&self, pc: u32) -> Option<usize> {
         self.program.lines.get(pc as usize).map(|&l| l as usize)
+    }
+
+    /// The queue the last command used, derived from the command and its record.
+    fn queue_access(&self) -> Option<QueueAccess> {
+        let last = self.s.last;
+        let (op, base) = match *self.program.instrs.get(last.pc as usize)? {
+            Instr::Cld { op, reg1, .. } | Instr::Clx { op, reg1, .. } if op.is_queue() => {
+                (op, reg1 as usize)
+            }
+            _ => return None,
+        };
+        let [h0, h1, d, _] = last.vals;
+        let size = (h0 as u32 >> 16).max(1) as i64;
+        let (head, tail) = (i64::from(h1 as u32 >> 16), i64::from(h1 as u32 & 0xFFFF));
+        let (action, slot) = match op {
+            ExtOp::QInit => ("init".to_string(), None),
+            ExtOp::QPushHead | ExtOp::QPushHeadErr => ("push head".to_string(), Some(head)),
+            ExtOp::QPopHead | ExtOp::QPopHeadErr => ("pop head".to_string(), Some(head - 1)),
+            ExtOp::QPushTail | ExtOp::QPushTailErr => ("push tail".to_string(), Some(tail - 1)),
+            ExtOp::QPopTail | ExtOp::QPopTailErr => ("pop tail".to_string(), Some(tail)),
+            _ => {
+                let n = i64::from(d);
+                let slot = if n >= 0 { head - 1 - n } else { tail - 1 - n };
+                (format!("read {n}"), Some(slot))
+            }
+        };
+        let ok = last.outcome == Outcome::Done;
+        let failure = (!ok).then(|| match (op, self.s.fault.as_ref().map(|f| f.kind)) {
+            (_, Some(FaultKind::BadQueue)) if last.outcome == Outcome::Faulted => {
+                "not a valid queue"
+            }
+            (
+                ExtOp::QPushHead | ExtOp::QPushTail | ExtOp::QPushHeadErr | ExtOp::QPushTailErr,
+                _,
+            ) => "full",
+            (ExtOp::QRead, _) => "no such element",
+            _ => "empty",
+        });
+        Some(QueueAccess {
+            base,
+            action,
+            slot: slot.filter(|_| ok).map(|s| s.rem_euclid(size) as usize),
+            ok,
+            failure,
+        })
     }
 
     /// Registers the last command wrote, derived from the command and its record.
@@ -1319,7 +1367,15 @@ impl Machine for SilverLode {
             }
         }
     }
-    fn run_until<F: FnMut(&Self) -> bool>(&mut self, tick_limit: u64, stop: F) -> StopReason {
-        self.run_fast(tick_limit, stop)
+    fn run_observed<F: FnMut(&Self) -> bool, O: FnMut(&Self)>(
+        &mut self,
+        tick_limit: u64,
+        stop: F,
+        observe: O,
+    ) -> StopReason {
+        self.run_fast(tick_limit, stop, observe)
+    }
+    fn last_queue_access(&self) -> Option<QueueAccess> {
+        self.queue_access()
     }
 }
