@@ -254,7 +254,7 @@ impl Trace {
     /// cover are left out.
     pub fn decimate(&self, series: Series, t0: f64, t1: f64, columns: usize) -> Vec<[f64; 2]> {
         let mut out = Vec::with_capacity(columns * 2);
-        if self.is_empty() || columns == 0 || !(t1 > t0) {
+        if self.is_empty() || columns == 0 || t0.is_nan() || t1.is_nan() || t1 <= t0 {
             return out;
         }
         let end = self.end as f64;
