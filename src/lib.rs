@@ -4,6 +4,7 @@
 //! - [`machine`]: the interpreter core, one module per dialect, no I/O.
 //! - [`runner`]: the headless runner of spec §8 (`servoscope run`).
 
+pub mod atomic;
 pub mod debugger;
 pub mod machine;
 pub mod runner;

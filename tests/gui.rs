@@ -236,7 +236,7 @@ fn opening_a_path_typed_in_the_open_window() {
     let path = dir.join("typed.qsl");
     std::fs::write(&path, "WRP 30, 42\nEND\n").unwrap();
     let mut h = harness(ServoscopeApp::new(Prefs::default()));
-    h.state_mut().files.window_open = true;
+    h.state_mut().files.open.window_open = true;
     h.run_steps(2);
     h.get_by_label("Path").focus();
     h.step();
@@ -286,4 +286,119 @@ fn dropping_a_file_on_the_window_opens_it() {
     h.run_steps(1);
     assert_eq!(h.state().debugger.machine().reg(31), 7);
     let _ = std::fs::remove_file(&path);
+}
+
+fn step_n(h: &mut Harness<'static, ServoscopeApp>, n: usize) {
+    for _ in 0..n {
+        h.state_mut().debugger.step_command();
+    }
+    h.run_steps(2);
+}
+
+#[test]
+fn a_queue_program_shows_its_ring_with_head_and_tail() {
+    let mut h = harness(app_with(
+        "CLD Q_INIT, 10, 40, 4\nCLD Q_PUSH_HEAD, 10, 40, 7\nCLD Q_PUSH_HEAD, 10, 40, 8\nCLD Q_POP_TAIL, 11, 40, 0\nEND",
+    ));
+    h.get_by_label("Queues (0)");
+    step_n(&mut h, 1);
+    h.get_by_label("Queue R40 head at slot 0");
+    h.get_by_label("Queue R40 tail at slot 0");
+    h.get_by_label("Queue R40 0/4 EMPTY");
+    // A push moves the head and fills its slot.
+    step_n(&mut h, 1);
+    h.get_by_label("Queue R40 head at slot 1");
+    h.get_by_label("Queue R40 tail at slot 0");
+    h.get_by_label("Queue R40 slot 0 (R42) = 7");
+    h.get_by_label("last: push head at slot 0 (R42)");
+    step_n(&mut h, 2);
+    h.get_by_label("Queue R40 tail at slot 1");
+    h.get_by_label("last: pop tail at slot 0 (R42)");
+    h.get_by_label("Queue R40 1/4");
+    // The header words are decoded.
+    h.get_by_label("size = 4");
+    h.get_by_label("head = 2");
+}
+
+#[test]
+fn full_failed_and_corrupt_queues_say_so() {
+    let mut h = harness(app_with(
+        "CLD Q_INIT, 10, 40, 1\nCLD Q_PUSH_HEAD, 10, 40, 5\nCLD Q_PUSH_HEAD, 10, 40, 6\nWRP 41, 0x00090000\nEND",
+    ));
+    step_n(&mut h, 2);
+    h.get_by_label("Queue R40 1/1 FULL");
+    step_n(&mut h, 1);
+    h.get_by_label("last: push head FAILED (full)");
+    step_n(&mut h, 1);
+    h.get_by_label("Queue R40: not a valid queue any more");
+}
+
+#[test]
+fn large_queues_switch_to_a_grid() {
+    let mut h = harness(app_with(
+        "CLD Q_INIT, 10, 50, 40\nCLD Q_PUSH_TAIL, 10, 50, 3\nEND",
+    ));
+    step_n(&mut h, 2);
+    h.get_by_label("Queue R50 slot 39 (R91) = 3");
+    h.get_by_label("Queue R50 tail at slot 39");
+    h.get_by_label("Queue R50 head at slot 0");
+}
+
+#[test]
+fn the_plot_appears_with_its_series_after_a_move() {
+    let mut h = harness(app_with("MAV 500, 386500, 80530640\nDLY 200\nEND"));
+    h.state_mut().debugger.set_speed(Speed::Unlimited);
+    h.key_press(Key::F5);
+    h.run_steps(4);
+    assert_eq!(h.state().debugger.machine().run_state(), RunState::Ended);
+    h.get_by_label("Position");
+    h.get_by_label("target (R0)");
+    h.get_by_label("actual (R1)");
+    h.get_by_label("error (R6)");
+    let trace = h.state().debugger.trace();
+    assert_eq!(trace.at(trace.end_tick().unwrap()).unwrap().values[0], 500);
+}
+
+#[test]
+fn csv_export_writes_the_trace() {
+    let mut h = harness(app_with("WRP 0, 40\nDLY 30\nEND"));
+    h.state_mut().debugger.set_speed(Speed::Unlimited);
+    h.key_press(Key::F5);
+    h.run_steps(3);
+    let path = std::env::temp_dir().join(format!("servoscope-trace-{}.csv", std::process::id()));
+    h.state_mut().files.export.window_open = true;
+    h.run_steps(2);
+    h.get_by_label("Path").focus();
+    h.step();
+    h.get_by_label("Path").type_text(path.to_str().unwrap());
+    h.step();
+    h.get_by_label("Export").click();
+    h.run_steps(2);
+    let text = std::fs::read_to_string(&path).expect("CSV written");
+    let _ = std::fs::remove_file(&path);
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("tick,time_ms,target,actual,error,velocity")
+    );
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().expect("number")).collect())
+        .collect();
+    assert_eq!(rows[0], vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.0], "the start");
+    assert_eq!(
+        rows[1][..5],
+        [1.0, 0.12, 40.0, 0.0, 40.0],
+        "WRP 0, 40 in tick 1: error 40"
+    );
+    // Every row is the machine at that tick: replay and compare.
+    let mut m = servoscope::runner::load("WRP 0, 40\nDLY 30\nEND").unwrap();
+    for row in &rows {
+        while m.ticks() < row[0] as u64 {
+            m.step_tick();
+        }
+        let want = [m.reg(0), m.reg(1), m.reg(6), m.reg(7)].map(f64::from);
+        assert_eq!(row[2..], want, "tick {}", row[0]);
+        assert!((row[1] - row[0] * 0.12).abs() < 1e-9);
+    }
+    h.get_by_label_contains("Exported");
 }

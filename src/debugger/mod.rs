@@ -154,6 +154,14 @@ impl Debugger {
         &self.trace
     }
 
+    /// Write the trace as CSV (one row per tick where a value changed), atomically.
+    /// Returns the number of rows.
+    pub fn export_trace_csv(&self, path: &std::path::Path) -> std::io::Result<usize> {
+        let micros = self.machine.tick_micros();
+        crate::atomic::write_atomically(path, |w| self.trace.write_csv(w, micros))?;
+        Ok(self.trace.len())
+    }
+
     fn restart_trace(&mut self) {
         self.trace.clear();
         self.record_now();

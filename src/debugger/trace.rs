@@ -292,11 +292,7 @@ impl Trace {
 
     /// CSV of every change point: `tick,time_ms,target,actual,error,velocity`. A row holds
     /// until the next one.
-    pub fn write_csv(
-        &self,
-        out: &mut impl std::io::Write,
-        tick_micros: u32,
-    ) -> std::io::Result<()> {
+    pub fn write_csv(&self, out: &mut dyn std::io::Write, tick_micros: u32) -> std::io::Result<()> {
         writeln!(out, "tick,time_ms,target,actual,error,velocity")?;
         for s in self.samples() {
             let ms = s.tick as f64 * f64::from(tick_micros) / 1000.0;

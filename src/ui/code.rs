@@ -267,7 +267,11 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                 }
                 let scroll_to = jump.or_else(|| pc_moved(view, pc_line));
                 if let Some(line) = scroll_to {
-                    ui.scroll_to_rect(row_rect(line).with_max_x(text_left + 200.0), None);
+                    // Two lines of margin, so the line never hides under a scroll bar.
+                    let rect = row_rect(line)
+                        .with_max_x(text_left + 200.0)
+                        .expand2(vec2(0.0, 2.0 * row_height));
+                    ui.scroll_to_rect(rect, None);
                 }
 
                 let diagnostics = debugger.diagnostics();

@@ -1,22 +1,62 @@
-//! Opening programs: the native dialog on a worker thread (never blocking a frame), a path
-//! field that always works (also when no dialog is available), and drag-and-drop.
+//! Choosing files: the native dialog on a worker thread (never blocking a frame), beside a
+//! small window with a path field that always works (also when no dialog is available), and
+//! drag-and-drop.
 
 use std::path::PathBuf;
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 
 use super::{Command, Prefs};
 
-#[derive(Default)]
-pub struct Files {
+/// What a chosen path is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Purpose {
+    OpenProgram,
+    ExportCsv,
+}
+
+impl Purpose {
+    fn title(self) -> &'static str {
+        match self {
+            Purpose::OpenProgram => "Open a program",
+            Purpose::ExportCsv => "Export the trace as CSV",
+        }
+    }
+    fn button(self) -> &'static str {
+        match self {
+            Purpose::OpenProgram => "Open",
+            Purpose::ExportCsv => "Export",
+        }
+    }
+    fn command(self, path: PathBuf) -> Command {
+        match self {
+            Purpose::OpenProgram => Command::OpenPath(path),
+            Purpose::ExportCsv => Command::ExportCsv(path),
+        }
+    }
+}
+
+/// One pending choice of a path.
+pub struct PathRequest {
+    pub purpose: Purpose,
     pub window_open: bool,
     pub path_text: String,
     pub error: Option<String>,
     pending: Option<Receiver<Option<PathBuf>>>,
 }
 
-impl Files {
-    /// Show the Open window and start the native dialog beside it.
-    pub fn open_dialog(&mut self, ctx: &egui::Context) {
+impl PathRequest {
+    fn new(purpose: Purpose) -> Self {
+        PathRequest {
+            purpose,
+            window_open: false,
+            path_text: String::new(),
+            error: None,
+            pending: None,
+        }
+    }
+
+    /// Show the window and start the native dialog beside it.
+    pub fn start(&mut self, ctx: &egui::Context) {
         self.window_open = true;
         self.error = None;
         if self.pending.is_some() {
@@ -24,14 +64,21 @@ impl Files {
         }
         let (tx, rx) = channel();
         let ctx = ctx.clone();
+        let purpose = self.purpose;
         let spawned = std::thread::Builder::new()
             .name("file-dialog".into())
             .spawn(move || {
-                let picked = rfd::FileDialog::new()
-                    .set_title("Open a program")
-                    .add_filter("SilverLode program", &["qsl"])
-                    .add_filter("All files", &["*"])
-                    .pick_file();
+                let dialog = rfd::FileDialog::new().set_title(purpose.title());
+                let picked = match purpose {
+                    Purpose::OpenProgram => dialog
+                        .add_filter("SilverLode program", &["qsl"])
+                        .add_filter("All files", &["*"])
+                        .pick_file(),
+                    Purpose::ExportCsv => dialog
+                        .add_filter("CSV", &["csv"])
+                        .set_file_name("trace.csv")
+                        .save_file(),
+                };
                 let _ = tx.send(picked);
                 ctx.request_repaint();
             });
@@ -44,9 +91,9 @@ impl Files {
         self.pending.is_some()
     }
 
-    /// A path picked in the native dialog, once it has answered. A cancelled or unavailable
+    /// The path picked in the native dialog, once it answered. A cancelled or unavailable
     /// dialog leaves the path field for the user.
-    pub fn poll(&mut self) -> Option<PathBuf> {
+    fn poll(&mut self) -> Option<PathBuf> {
         let rx = self.pending.as_ref()?;
         match rx.try_recv() {
             Ok(picked) => {
@@ -67,41 +114,85 @@ impl Files {
     }
 }
 
-pub fn open_window(ctx: &egui::Context, files: &mut Files, prefs: &Prefs, out: &mut Vec<Command>) {
-    if !files.window_open {
+pub struct Files {
+    pub open: PathRequest,
+    pub export: PathRequest,
+}
+
+impl Default for Files {
+    fn default() -> Self {
+        Files {
+            open: PathRequest::new(Purpose::OpenProgram),
+            export: PathRequest::new(Purpose::ExportCsv),
+        }
+    }
+}
+
+impl Files {
+    pub fn is_waiting(&self) -> bool {
+        self.open.is_waiting() || self.export.is_waiting()
+    }
+
+    /// Commands for paths the native dialogs returned.
+    pub fn poll(&mut self, out: &mut Vec<Command>) {
+        for request in [&mut self.open, &mut self.export] {
+            if let Some(path) = request.poll() {
+                out.push(request.purpose.command(path));
+            }
+        }
+    }
+
+    pub fn windows(&mut self, ctx: &egui::Context, prefs: &Prefs, out: &mut Vec<Command>) {
+        path_window(ctx, &mut self.open, &prefs.recent, out);
+        path_window(ctx, &mut self.export, &[], out);
+    }
+}
+
+fn path_window(
+    ctx: &egui::Context,
+    request: &mut PathRequest,
+    recent: &[PathBuf],
+    out: &mut Vec<Command>,
+) {
+    if !request.window_open {
         return;
     }
+    let purpose = request.purpose;
     let mut open = true;
-    egui::Window::new("Open a program")
+    egui::Window::new(purpose.title())
         .collapsible(false)
         .resizable(false)
         .open(&mut open)
         .show(ctx, |ui| {
-            if files.is_waiting() {
+            if request.is_waiting() {
                 ui.label("Choose a file in the system dialog, or type its path here:");
             } else {
-                ui.label("Type the path of a .qsl program:");
+                ui.label("Type the path:");
             }
             ui.horizontal(|ui| {
                 let label = ui.label("Path");
                 let edit = ui
-                    .add(egui::TextEdit::singleline(&mut files.path_text).desired_width(360.0))
+                    .add(egui::TextEdit::singleline(&mut request.path_text).desired_width(360.0))
                     .labelled_by(label.id);
                 let entered = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
-                if (ui.button("Open").clicked() || entered) && !files.path_text.trim().is_empty() {
-                    out.push(Command::OpenPath(PathBuf::from(files.path_text.trim())));
+                let text = request.path_text.trim();
+                if (ui.button(purpose.button()).clicked() || entered) && !text.is_empty() {
+                    out.push(purpose.command(PathBuf::from(text)));
                 }
             });
             if ui.button("Browse…").clicked() {
-                out.push(Command::OpenDialog);
+                out.push(match purpose {
+                    Purpose::OpenProgram => Command::OpenDialog,
+                    Purpose::ExportCsv => Command::ExportDialog,
+                });
             }
-            if let Some(error) = &files.error {
+            if let Some(error) = &request.error {
                 ui.colored_label(ui.visuals().error_fg_color, error);
             }
-            if !prefs.recent.is_empty() {
+            if !recent.is_empty() {
                 ui.separator();
                 ui.label("Recent:");
-                for path in &prefs.recent {
+                for path in recent {
                     if ui.link(path.display().to_string()).clicked() {
                         out.push(Command::OpenPath(path.clone()));
                     }
@@ -109,7 +200,7 @@ pub fn open_window(ctx: &egui::Context, files: &mut Files, prefs: &Prefs, out: &
             }
         });
     if !open {
-        files.close();
+        request.close();
     }
 }
 

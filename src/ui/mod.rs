@@ -5,6 +5,8 @@
 pub mod code;
 pub mod controls;
 pub mod files;
+pub mod plot;
+pub mod queues;
 pub mod registers;
 pub mod status;
 pub mod theme;
@@ -74,6 +76,8 @@ pub enum Command {
     SetStatusBit(&'static str, u8, bool),
     OpenDialog,
     OpenPath(PathBuf),
+    ExportDialog,
+    ExportCsv(PathBuf),
     LoadExample(usize),
     SetDark(bool),
 }
@@ -87,7 +91,6 @@ pub struct Prefs {
     pub speed: Speed,
     pub register_format: Format,
     pub only_used_registers: bool,
-    pub registers_width: f32,
 }
 
 impl Default for Prefs {
@@ -98,7 +101,6 @@ impl Default for Prefs {
             speed: Speed::PerSecond(10.0),
             register_format: Format::Signed,
             only_used_registers: true,
-            registers_width: 570.0,
         }
     }
 }
@@ -161,6 +163,7 @@ pub struct ServoscopeApp {
     pub prefs: Prefs,
     pub code: code::CodeView,
     pub registers: registers::RegisterView,
+    pub plot: plot::PlotView,
     pub files: files::Files,
     /// A message for the user that is not a program diagnostic (a file that could not be read).
     pub notice: Option<String>,
@@ -185,6 +188,7 @@ impl ServoscopeApp {
             prefs,
             code: code::CodeView::default(),
             registers,
+            plot: plot::PlotView::default(),
             files: files::Files::default(),
             notice: None,
             frame_stats: None,
@@ -226,12 +230,13 @@ impl ServoscopeApp {
                 self.prefs.recent.truncate(MAX_RECENT);
                 self.path = Some(path);
                 self.notice = None;
-                self.files.close();
+                self.files.open.close();
                 self.code.reset_view();
+                self.plot.reset();
             }
             Err(e) => {
                 let message = format!("Cannot open {}: {e}", path.display());
-                self.files.error = Some(message.clone());
+                self.files.open.error = Some(message.clone());
                 self.notice = Some(message);
             }
         }
@@ -263,13 +268,26 @@ impl ServoscopeApp {
             Command::SetStatusBit(word, bit, on) => {
                 d.set_status_bit(word, bit, on);
             }
-            Command::OpenDialog => self.files.open_dialog(ctx),
+            Command::OpenDialog => self.files.open.start(ctx),
             Command::OpenPath(path) => self.open_path(path),
+            Command::ExportDialog => self.files.export.start(ctx),
+            Command::ExportCsv(path) => match self.debugger.export_trace_csv(&path) {
+                Ok(rows) => {
+                    self.files.export.close();
+                    self.notice = Some(format!("Exported {rows} rows to {}", path.display()));
+                }
+                Err(e) => {
+                    let message = format!("Cannot write {}: {e}", path.display());
+                    self.files.export.error = Some(message.clone());
+                    self.notice = Some(message);
+                }
+            },
             Command::LoadExample(i) => {
                 if let Some(&(name, text)) = EXAMPLES.get(i) {
                     self.debugger.load(name, text);
                     self.path = None;
                     self.code.reset_view();
+                    self.plot.reset();
                 }
             }
             Command::SetDark(dark) => self.prefs.dark = dark,
@@ -287,9 +305,7 @@ impl ServoscopeApp {
         let mut commands = Vec::new();
         controls::shortcuts(&ctx, &self.debugger, &self.code, &mut commands);
         files::dropped_files(&ctx, &mut commands);
-        if let Some(path) = self.files.poll() {
-            commands.push(Command::OpenPath(path));
-        }
+        self.files.poll(&mut commands);
         for c in commands.drain(..) {
             self.apply(&ctx, c);
         }
@@ -318,15 +334,14 @@ impl ServoscopeApp {
         egui::Panel::bottom("status_bar").show(ui, |ui| {
             status::status_bar(ui, &self.debugger);
         });
-        let width = self.prefs.registers_width;
-        let panel = egui::Panel::right("registers")
+        // Panel sizes are remembered by egui's own memory, which eframe persists.
+        egui::Panel::right("registers")
             .resizable(true)
-            .default_size(width)
+            .default_size(560.0)
             .min_size(380.0)
             .show(ui, |ui| {
                 registers::show(ui, &self.debugger, &mut self.registers, &mut commands);
             });
-        self.prefs.registers_width = panel.response.rect.width();
         egui::CentralPanel::default().show(ui, |ui| {
             if let Some(notice) = self.notice.clone()
                 && status::notice_banner(ui, &notice)
@@ -334,9 +349,28 @@ impl ServoscopeApp {
                 self.notice = None;
             }
             status::fault_banner(ui, &self.debugger);
+            egui::Panel::bottom("queues_and_plot")
+                .resizable(true)
+                .default_size(310.0)
+                .min_size(160.0)
+                .show(ui, |ui| {
+                    // Content sizes itself to the panel, never the reverse.
+                    let height = ui.available_height();
+                    ui.set_min_height(height);
+                    ui.columns(2, |columns| {
+                        queues::show(&mut columns[0], &self.debugger, height);
+                        plot::show(
+                            &mut columns[1],
+                            &self.debugger,
+                            &mut self.plot,
+                            height,
+                            &mut commands,
+                        );
+                    });
+                });
             code::show(ui, &self.debugger, &mut self.code, &mut commands);
         });
-        files::open_window(&ctx, &mut self.files, &self.prefs, &mut commands);
+        self.files.windows(&ctx, &self.prefs, &mut commands);
 
         for c in commands {
             self.apply(&ctx, c);
