@@ -18,6 +18,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::debugger::format::Format;
 use crate::debugger::{Debugger, Speed};
+use crate::machine::Machine;
 
 /// Example programs built into the binary, for the Examples menu and the start screen.
 pub const EXAMPLES: &[(&str, &str)] = &[
@@ -357,16 +358,23 @@ impl ServoscopeApp {
                     // Content sizes itself to the panel, never the reverse.
                     let height = ui.available_height();
                     ui.set_min_height(height);
-                    ui.columns(2, |columns| {
-                        queues::show(&mut columns[0], &self.debugger, height);
-                        plot::show(
-                            &mut columns[1],
-                            &self.debugger,
-                            &mut self.plot,
-                            height,
-                            &mut commands,
-                        );
-                    });
+                    if self.debugger.machine().queues().is_empty() {
+                        // No queue to draw: the plot takes the whole width.
+                        queues::show(ui, &self.debugger, height);
+                        let rest = ui.available_height();
+                        plot::show(ui, &self.debugger, &mut self.plot, rest, &mut commands);
+                    } else {
+                        ui.columns(2, |columns| {
+                            queues::show(&mut columns[0], &self.debugger, height);
+                            plot::show(
+                                &mut columns[1],
+                                &self.debugger,
+                                &mut self.plot,
+                                height,
+                                &mut commands,
+                            );
+                        });
+                    }
                 });
             code::show(ui, &self.debugger, &mut self.code, &mut commands);
         });

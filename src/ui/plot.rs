@@ -156,7 +156,7 @@ pub fn show(
     // Header and readout lines take about 50 px of the panel.
     let height = (height - 50.0).max(150.0);
     let rows = if view.show_velocity { 3.0 } else { 2.0 };
-    let main_height = (height * if rows > 2.0 { 0.5 } else { 0.62 }).max(80.0);
+    let main_height = (height * if rows > 2.0 { 0.42 } else { 0.5 }).max(80.0);
     let small_height = ((height - main_height) / (rows - 1.0) - 8.0).max(50.0);
     let reset = std::mem::take(&mut view.reset_requested);
     let show_velocity = view.show_velocity;
@@ -172,7 +172,6 @@ pub fn show(
                      x_axis: bool| {
         let mut plot = Plot::new(id)
             .height(height)
-            .legend(Legend::default().position(egui_plot::Corner::LeftTop))
             .link_axis(link, [true, false])
             .link_cursor(link, [true, false])
             .auto_bounds([false, true])
@@ -180,6 +179,10 @@ pub fn show(
             .allow_double_click_reset(false)
             .show_x(false)
             .show_y(false);
+        // One series needs no legend: the axis label names it.
+        if series.len() > 1 {
+            plot = plot.legend(Legend::default().position(egui_plot::Corner::LeftTop));
+        }
         plot = if x_axis {
             plot.custom_x_axes(vec![AxisHints::new_x().label("tick"), ms_axis(micros)])
         } else {
@@ -204,12 +207,12 @@ pub fn show(
                 );
             }
             plot_ui.vline(
-                VLine::new("now", now as f64)
+                VLine::new("", now as f64)
                     .color(p.text.gamma_multiply(0.6))
                     .width(1.0),
             );
             if let Some(t) = view.selected_tick {
-                plot_ui.vline(VLine::new("selected", t as f64).color(p.dim).width(1.0));
+                plot_ui.vline(VLine::new("", t as f64).color(p.dim).width(1.0));
             }
             plot_ui.pointer_coordinate()
         });
@@ -235,7 +238,7 @@ pub fn show(
         "position_plot",
         main_height,
         &[(Series::Target, p.mnemonic), (Series::Actual, p.written)],
-        "position (counts)",
+        "position",
         false,
     );
     panel(
@@ -243,7 +246,7 @@ pub fn show(
         "error_plot",
         small_height,
         &[(Series::Error, p.error)],
-        "error (counts)",
+        "error",
         !show_velocity,
     );
     if show_velocity {
@@ -252,7 +255,7 @@ pub fn show(
             "velocity_plot",
             small_height,
             &[(Series::Velocity, p.operation)],
-            "velocity (counts/s)",
+            "counts/s",
             true,
         );
     }

@@ -18,13 +18,16 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, height: f32) {
     let p = palette(ui.visuals().dark_mode);
     let machine = debugger.machine();
     let queues = machine.queues();
-    ui.strong(format!("Queues ({})", queues.len()));
     if queues.is_empty() {
-        ui.label(
-            RichText::new("No queue yet: CLD Q_INIT, res, base, size makes one.").color(p.dim),
-        );
+        ui.horizontal(|ui| {
+            ui.strong("Queues (0)");
+            ui.label(
+                RichText::new("none yet: CLD Q_INIT, res, base, size makes one.").color(p.dim),
+            );
+        });
         return;
     }
+    ui.strong(format!("Queues ({})", queues.len()));
     let access = machine.last_queue_access();
     egui::ScrollArea::vertical()
         .id_salt("queues_scroll")
@@ -194,7 +197,7 @@ fn accessible(
 }
 
 fn ring(ui: &mut egui::Ui, name: &str, h: &QueueHeader, access: Option<&QueueAccess>, p: &Palette) {
-    let (outer, inner) = (82.0, 50.0);
+    let (outer, inner) = (90.0, 50.0);
     let size = Vec2::splat(2.0 * outer + 44.0);
     let (rect, _) = ui.allocate_exact_size(size, Sense::hover());
     let c = rect.center();
