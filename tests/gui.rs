@@ -354,7 +354,6 @@ fn the_plot_appears_with_its_series_after_a_move() {
     h.get_by_label("Position");
     h.get_by_label("target (R0)");
     h.get_by_label("actual (R1)");
-    h.get_by_label("error (R6)");
     let trace = h.state().debugger.trace();
     assert_eq!(trace.at(trace.end_tick().unwrap()).unwrap().values[0], 500);
 }
