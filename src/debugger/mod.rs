@@ -1,10 +1,12 @@
-//! Run control over a machine: the program text and its assembly, breakpoints, stepping,
-//! running at a chosen speed in bounded slices, pausing, resetting and user edits.
+//! Run control over a machine: the program text and its assembly, breakpoints, stepping
+//! forward and back, running at a chosen speed in bounded slices, pausing, resetting, going to
+//! any tick, and user edits that become part of the replayable timeline.
 //!
 //! No egui here: everything the GUI can do is a method a unit test can call. The GUI calls
 //! [`Debugger::advance`] once per frame with a time budget, so a run never blocks a frame.
 
 pub mod format;
+pub mod history;
 pub mod trace;
 
 use std::collections::BTreeSet;
@@ -13,6 +15,7 @@ use std::time::{Duration, Instant};
 
 use crate::machine::silverlode::{ServoSettings, SilverLode, assemble};
 use crate::machine::{Diagnostic, Machine, RunState, StopReason};
+use history::{Edit, Mark, MarkKind, Timeline, UserEvent};
 use trace::Trace;
 
 /// Ticks run between two looks at the clock while running unlimited.
@@ -60,6 +63,8 @@ pub enum Goal {
     FinishStep,
     /// Until the command on this line is about to run (or a breakpoint).
     ToLine(usize),
+    /// Until this tick (beyond the furthest one reached so far).
+    ToTick(u64),
 }
 
 /// Why the debugger last stopped, for the status bar.
@@ -67,14 +72,20 @@ pub enum Goal {
 pub enum Event {
     Breakpoint(usize),
     ReachedLine(usize),
+    ReachedTick(u64),
     Paused(Option<usize>),
     Stepped,
+    SteppedBack,
+    /// Reverse-continue found no earlier breakpoint: back at the start.
+    NoEarlierBreakpoint,
     Ended,
     Faulted,
     Reset,
     /// The text has errors: nothing runs until they are fixed.
     NotAssembled(usize),
     Assembled,
+    /// An edit in the past rewrote history from this tick on.
+    FutureDiscarded(u64),
 }
 
 impl Event {
@@ -82,14 +93,20 @@ impl Event {
         match self {
             Event::Breakpoint(l) => format!("Breakpoint hit at line {l}"),
             Event::ReachedLine(l) => format!("Reached line {l}"),
+            Event::ReachedTick(t) => format!("At tick {t}"),
             Event::Paused(Some(l)) => format!("Paused at line {l}"),
             Event::Paused(None) => "Paused".to_string(),
             Event::Stepped => "Stepped".to_string(),
+            Event::SteppedBack => "Stepped back".to_string(),
+            Event::NoEarlierBreakpoint => "No earlier breakpoint: back at the start".to_string(),
             Event::Ended => "Program ended".to_string(),
             Event::Faulted => "Stopped on a fault".to_string(),
             Event::Reset => "Reset to the start".to_string(),
             Event::NotAssembled(n) => format!("{n} error(s) in the program: fix them to run"),
             Event::Assembled => "Program assembled".to_string(),
+            Event::FutureDiscarded(t) => {
+                format!("Edited at tick {t}: the recorded future after it was discarded")
+            }
         }
     }
 }
@@ -102,7 +119,7 @@ pub struct Debugger {
     diagnostics: Vec<Diagnostic>,
     settings: ServoSettings,
     initial: SilverLode,
-    machine: SilverLode,
+    timeline: Timeline,
     breakpoints: BTreeSet<usize>,
     goal: Option<Goal>,
     /// Skip the breakpoint on the current line once (resuming from it).
@@ -111,24 +128,13 @@ pub struct Debugger {
     /// Commands owed at slow speeds (fractions carry over between frames).
     credit: f64,
     event: Option<Event>,
-    trace: Trace,
-}
-
-/// The values the trace keeps for a tick.
-fn motion_values(m: &SilverLode) -> [i32; 4] {
-    [m.reg(0), m.reg(1), m.reg(6), m.reg(7)]
 }
 
 impl Debugger {
     /// A debugger on `source`. If it does not assemble, the diagnostics are kept and nothing
     /// runs until the text is fixed.
     pub fn new(name: impl Into<String>, source: impl Into<String>) -> Self {
-        let empty = SilverLode::new(Arc::new(crate::machine::silverlode::Program {
-            instrs: Vec::new(),
-            lines: Vec::new(),
-            labels: Vec::new(),
-            used_registers: Vec::new(),
-        }));
+        let empty = SilverLode::new(crate::machine::silverlode::Program::empty());
         let mut d = Debugger {
             name: name.into(),
             source: source.into(),
@@ -136,65 +142,52 @@ impl Debugger {
             diagnostics: Vec::new(),
             settings: ServoSettings::default(),
             initial: empty.clone(),
-            machine: empty,
+            timeline: Timeline::new(empty, Vec::new()),
             breakpoints: BTreeSet::new(),
             goal: None,
             resume_past_breakpoint: false,
             speed: Speed::PerSecond(10.0),
             credit: 0.0,
             event: None,
-            trace: Trace::default(),
         };
         d.assemble();
         d
     }
 
-    /// The motion trace since the last reset.
-    pub fn trace(&self) -> &Trace {
-        &self.trace
-    }
-
-    /// Write the trace as CSV (one row per tick where a value changed), atomically.
-    /// Returns the number of rows.
-    pub fn export_trace_csv(&self, path: &std::path::Path) -> std::io::Result<usize> {
-        let micros = self.machine.tick_micros();
-        crate::atomic::write_atomically(path, |w| self.trace.write_csv(w, micros))?;
-        Ok(self.trace.len())
-    }
-
-    fn restart_trace(&mut self) {
-        self.trace.clear();
-        self.record_now();
-    }
-
-    fn record_now(&mut self) {
-        self.trace
-            .record(self.machine.ticks(), motion_values(&self.machine));
-    }
-
-    /// Advance until the current command completes, recording every tick.
-    fn step_recorded(&mut self, max_ticks: u64) -> StopReason {
-        let before = self.machine.ticks();
-        let limit = before.saturating_add(max_ticks);
-        loop {
-            if !self.machine.run_state().is_live() {
-                return StopReason::Stopped;
-            }
-            if self.machine.ticks() >= limit {
-                return StopReason::TickLimit;
-            }
-            self.machine.step_tick();
-            self.record_now();
-            if self.machine.run_state() == RunState::Running && self.machine.ticks() > before {
-                return StopReason::Predicate;
-            }
-        }
+    /// A debugger restored to `tick` of a recorded run: the program, its settings, its
+    /// breakpoints and its timeline of user events (some may lie after `tick`).
+    pub fn restore(
+        name: impl Into<String>,
+        source: impl Into<String>,
+        settings: ServoSettings,
+        breakpoints: impl IntoIterator<Item = usize>,
+        events: Vec<UserEvent>,
+        tick: u64,
+    ) -> Result<Debugger, Vec<Diagnostic>> {
+        let source = source.into();
+        let program = assemble(&source)?;
+        let settings = settings.clamped();
+        let initial = SilverLode::with_settings(Arc::new(program), settings);
+        let mut timeline = Timeline::new(initial.clone(), events);
+        timeline.forward(tick, |_| false);
+        let mut d = Debugger::new(name, "");
+        d.assembled_source = source.clone();
+        d.source = source;
+        d.settings = settings;
+        d.initial = initial;
+        d.timeline = timeline;
+        d.set_breakpoints(breakpoints);
+        d.event = None;
+        Ok(d)
     }
 
     // ---- reading ---------------------------------------------------------------------------
 
     pub fn name(&self) -> &str {
         &self.name
+    }
+    pub fn set_name(&mut self, name: impl Into<String>) {
+        self.name = name.into();
     }
     pub fn source(&self) -> &str {
         &self.source
@@ -213,7 +206,7 @@ impl Debugger {
         !self.diagnostics.is_empty()
     }
     pub fn machine(&self) -> &SilverLode {
-        &self.machine
+        &self.timeline.machine
     }
     pub fn breakpoints(&self) -> &BTreeSet<usize> {
         &self.breakpoints
@@ -235,7 +228,36 @@ impl Debugger {
     }
     /// Registers the program's text mentions.
     pub fn used_registers(&self) -> &[u8] {
-        &self.machine.program().used_registers
+        &self.machine().program().used_registers
+    }
+    /// The motion trace since the last reset.
+    pub fn trace(&self) -> &Trace {
+        &self.timeline.trace
+    }
+    /// The furthest tick reached: the timeline spans 0 ..= this.
+    pub fn furthest_tick(&self) -> u64 {
+        self.timeline.furthest()
+    }
+    /// Every input switch and edit, with its tick.
+    pub fn events(&self) -> &[UserEvent] {
+        self.timeline.events()
+    }
+    /// Breakpoint hits and faults on the timeline.
+    pub fn marks(&self) -> &[Mark] {
+        self.timeline.marks()
+    }
+    /// Bytes the history holds (checkpoints, events, trace).
+    pub fn history_bytes(&self) -> usize {
+        self.timeline.memory_bytes()
+    }
+
+    /// Write the trace as CSV (one row per tick where a value changed), atomically.
+    /// Returns the number of rows.
+    pub fn export_trace_csv(&self, path: &std::path::Path) -> std::io::Result<usize> {
+        let micros = self.machine().tick_micros();
+        let trace = &self.timeline.trace;
+        crate::atomic::write_atomically(path, |w| trace.write_csv(w, micros))?;
+        Ok(trace.len())
     }
 
     // ---- program ---------------------------------------------------------------------------
@@ -249,6 +271,19 @@ impl Debugger {
         self.assemble();
     }
 
+    /// A new timeline at tick 0 on `initial`, with the inputs at their current levels.
+    fn restart(&mut self) {
+        let events = (0..3)
+            .filter(|&i| self.machine().input(i))
+            .map(|input| UserEvent {
+                tick: 0,
+                edit: Edit::Input { input, high: true },
+            })
+            .collect();
+        self.timeline = Timeline::new(self.initial.clone(), events);
+        self.goal = None;
+    }
+
     /// Assemble the current text. On success the machine restarts on the new program and
     /// breakpoints follow the lines they were on; on failure the diagnostics are kept and the
     /// old state stays on screen, but nothing runs.
@@ -258,16 +293,11 @@ impl Debugger {
             Ok(program) => {
                 let moved = remap_lines(&self.assembled_source, &self.source, &self.breakpoints);
                 self.breakpoints = moved;
-                let inputs: Vec<bool> = (0..3).map(|i| self.machine.input(i)).collect();
                 self.initial = SilverLode::with_settings(Arc::new(program), self.settings);
-                self.machine = self.initial.clone();
-                for (i, &high) in inputs.iter().enumerate() {
-                    self.machine.set_input(i, high);
-                }
+                self.restart();
                 self.assembled_source = self.source.clone();
                 self.diagnostics.clear();
                 self.event = Some(Event::Assembled);
-                self.restart_trace();
                 true
             }
             Err(diagnostics) => {
@@ -294,7 +324,10 @@ impl Debugger {
             return;
         }
         self.goal = None;
-        let reason = self.step_recorded(STEP_TICKS_AT_ONCE);
+        let start = self.machine().ticks();
+        let reason = self
+            .timeline
+            .forward(start.saturating_add(STEP_TICKS_AT_ONCE), |m| m.ticks() > start);
         if reason == StopReason::TickLimit {
             self.goal = Some(Goal::FinishStep);
         } else {
@@ -308,8 +341,8 @@ impl Debugger {
             return;
         }
         self.goal = None;
-        self.machine.step_tick();
-        self.record_now();
+        let now = self.machine().ticks();
+        self.timeline.forward(now + 1, |_| false);
         self.after_stop(Event::Stepped);
     }
 
@@ -336,23 +369,18 @@ impl Debugger {
     /// Stop running (F6). Answers at once: the run only advances inside `advance`.
     pub fn pause(&mut self) {
         if self.goal.take().is_some() {
-            self.event = Some(Event::Paused(self.machine.pc_line()));
+            self.event = Some(Event::Paused(self.machine().pc_line()));
         }
     }
 
-    /// Back to the start of the program (Ctrl+Shift+F5), assembling edits first. Inputs keep
-    /// their levels: they are switches on the bench, not program state.
+    /// Back to the start of the program with a fresh timeline (Ctrl+Shift+F5), assembling edits
+    /// first. Inputs keep their levels: they are switches on the bench, not program state.
     pub fn reset(&mut self) {
         self.goal = None;
         if self.is_edited() || self.has_errors() {
             self.assemble();
         } else {
-            let inputs: Vec<bool> = (0..3).map(|i| self.machine.input(i)).collect();
-            self.machine = self.initial.clone();
-            for (i, &high) in inputs.iter().enumerate() {
-                self.machine.set_input(i, high);
-            }
-            self.restart_trace();
+            self.restart();
         }
         self.event = Some(Event::Reset);
     }
@@ -366,7 +394,7 @@ impl Debugger {
     }
 
     fn live(&mut self) -> bool {
-        let live = self.machine.run_state().is_live();
+        let live = self.machine().run_state().is_live();
         if !live {
             self.after_stop(Event::Stepped);
         }
@@ -374,12 +402,17 @@ impl Debugger {
     }
 
     fn after_stop(&mut self, otherwise: Event) {
-        self.event = Some(match self.machine.run_state() {
+        let state = self.machine().run_state();
+        self.event = Some(match state {
             RunState::Ended => Event::Ended,
-            RunState::Faulted => Event::Faulted,
+            RunState::Faulted => {
+                let line = self.machine().fault().map_or(0, |f| f.line);
+                self.timeline.mark(MarkKind::Fault, line);
+                Event::Faulted
+            }
             _ => otherwise,
         });
-        if !self.machine.run_state().is_live() {
+        if !state.is_live() {
             self.goal = None;
         }
     }
@@ -390,13 +423,13 @@ impl Debugger {
         let Some(goal) = self.goal else {
             return false;
         };
-        if !self.machine.run_state().is_live() {
+        if !self.machine().run_state().is_live() {
             self.after_stop(Event::Stepped);
             return false;
         }
         let started = Instant::now();
         let mut commands = match (goal, self.speed) {
-            (Goal::FinishStep, _) | (_, Speed::Unlimited) => u64::MAX,
+            (Goal::FinishStep | Goal::ToTick(_), _) | (_, Speed::Unlimited) => u64::MAX,
             (_, Speed::PerSecond(n)) => {
                 self.credit += n * dt.clamp(0.0, 0.25);
                 let whole = self.credit.floor();
@@ -407,29 +440,37 @@ impl Debugger {
         let bps = self.breakpoint_table();
         while commands > 0 {
             let skip = std::mem::take(&mut self.resume_past_breakpoint);
-            let reason = if goal == Goal::FinishStep {
-                self.step_recorded(CHUNK_TICKS)
-            } else if commands == u64::MAX {
-                let limit = self.machine.ticks().saturating_add(CHUNK_TICKS);
-                let mut first = skip;
-                let trace = &mut self.trace;
-                self.machine.run_observed(
-                    limit,
-                    |m| {
+            let now = self.machine().ticks();
+            let reason = match goal {
+                // Mid-command, the next command boundary ends the step; at one, it is over.
+                Goal::FinishStep if self.machine().run_state() == RunState::Running => {
+                    StopReason::Predicate
+                }
+                Goal::FinishStep => self.timeline.forward(now + CHUNK_TICKS, |_| true),
+                Goal::ToTick(t) => match self.timeline.forward(t.min(now + CHUNK_TICKS), |_| false) {
+                    StopReason::TickLimit if self.machine().ticks() >= t => StopReason::Predicate,
+                    other => other,
+                },
+                _ if commands == u64::MAX => {
+                    let mut first = skip;
+                    self.timeline.forward(now + CHUNK_TICKS, |m| {
                         let stop = !first && stops_at(&bps, goal, m.pc_line());
                         first = false;
                         stop
-                    },
-                    |m| trace.record(m.ticks(), motion_values(m)),
-                )
-            } else {
-                if !skip && stops_at(&bps, goal, self.machine.pc_line()) {
-                    StopReason::Predicate
-                } else {
-                    commands -= 1;
-                    match self.step_recorded(STEP_TICKS_AT_ONCE) {
-                        StopReason::Predicate => StopReason::TickLimit,
-                        other => other,
+                    })
+                }
+                _ => {
+                    if !skip && stops_at(&bps, goal, self.machine().pc_line()) {
+                        StopReason::Predicate
+                    } else {
+                        commands -= 1;
+                        match self
+                            .timeline
+                            .forward(now + STEP_TICKS_AT_ONCE, |m| m.ticks() > now)
+                        {
+                            StopReason::Predicate => StopReason::TickLimit,
+                            other => other,
+                        }
                     }
                 }
             };
@@ -438,17 +479,17 @@ impl Debugger {
                     self.after_stop(Event::Stepped);
                     return false;
                 }
-                StopReason::Predicate if goal == Goal::FinishStep => {
-                    self.goal = None;
-                    self.after_stop(Event::Stepped);
-                    return false;
-                }
                 StopReason::Predicate => {
-                    let line = self.machine.pc_line().unwrap_or(0);
                     self.goal = None;
+                    let line = self.machine().pc_line().unwrap_or(0);
                     self.event = Some(match goal {
+                        Goal::FinishStep => Event::Stepped,
+                        Goal::ToTick(t) => Event::ReachedTick(t),
                         Goal::ToLine(l) if l == line => Event::ReachedLine(line),
-                        _ => Event::Breakpoint(line),
+                        _ => {
+                            self.timeline.mark(MarkKind::Breakpoint, line);
+                            Event::Breakpoint(line)
+                        }
                     });
                     return false;
                 }
@@ -469,6 +510,64 @@ impl Debugger {
             table[l] = true;
         }
         table
+    }
+
+    // ---- time travel -----------------------------------------------------------------------
+
+    /// Go to any tick. Within the recorded timeline this is a replay from the nearest
+    /// checkpoint; beyond it the program runs there over the next frames.
+    pub fn goto_tick(&mut self, tick: u64) {
+        self.goal = None;
+        if self.has_errors() || self.is_edited() {
+            return;
+        }
+        if tick <= self.furthest_tick() {
+            self.timeline.goto(tick);
+            self.event = Some(Event::ReachedTick(self.machine().ticks()));
+        } else if self.machine().run_state().is_live() || self.machine().ticks() < self.furthest_tick() {
+            self.timeline.goto(self.furthest_tick());
+            self.goal = Some(Goal::ToTick(tick));
+        }
+    }
+
+    /// Back one tick (Shift+F11).
+    pub fn step_back_tick(&mut self) {
+        let now = self.machine().ticks();
+        if now > 0 && !self.is_edited() {
+            self.goal = None;
+            self.timeline.goto(now - 1);
+            self.event = Some(Event::SteppedBack);
+        }
+    }
+
+    /// Back to where the last command started (Shift+F10).
+    pub fn step_back_command(&mut self) {
+        let now = self.machine().ticks();
+        if now == 0 || self.is_edited() {
+            return;
+        }
+        self.goal = None;
+        let start = self.timeline.find_back(now, |_| true).unwrap_or(0);
+        self.timeline.goto(start);
+        self.event = Some(Event::SteppedBack);
+    }
+
+    /// Back to the last time a breakpoint was about to run, or the start (Shift+F5).
+    pub fn reverse_continue(&mut self) {
+        let now = self.machine().ticks();
+        if now == 0 || self.is_edited() {
+            return;
+        }
+        self.goal = None;
+        let bps = self.breakpoint_table();
+        let hit = self
+            .timeline
+            .find_back(now, |m| stops_at(&bps, Goal::Continue, m.pc_line()));
+        self.timeline.goto(hit.unwrap_or(0));
+        self.event = Some(match hit {
+            Some(_) => Event::Breakpoint(self.machine().pc_line().unwrap_or(0)),
+            None => Event::NoEarlierBreakpoint,
+        });
     }
 
     // ---- breakpoints -----------------------------------------------------------------------
@@ -492,14 +591,25 @@ impl Debugger {
 
     // ---- edits -----------------------------------------------------------------------------
 
+    fn edit(&mut self, edit: Edit) {
+        let tick = self.machine().ticks();
+        if self.timeline.edit(edit) {
+            self.event = Some(Event::FutureDiscarded(tick));
+        }
+    }
+
     pub fn set_register(&mut self, index: usize, value: u32) {
-        self.machine.set_register(index, value);
-        self.record_now();
+        if index < self.machine().register_count() {
+            self.edit(Edit::Register {
+                register: index,
+                value,
+            });
+        }
     }
 
     /// Parse what the user typed and store it. On error nothing changes.
     pub fn set_register_text(&mut self, index: usize, text: &str) -> Result<u32, String> {
-        if index >= self.machine.register_count() {
+        if index >= self.machine().register_count() {
             return Err(format!("there is no register R{index}"));
         }
         let value = format::parse_value(text)?;
@@ -509,17 +619,29 @@ impl Debugger {
 
     pub fn toggle_register_bit(&mut self, index: usize, bit: u8) {
         if bit < 32 {
-            let value = self.machine.register(index) ^ (1 << bit);
+            let value = self.machine().register(index) ^ (1 << bit);
             self.set_register(index, value);
         }
     }
 
+    /// Set a status bit by hand; false (and nothing recorded) when that bit is not editable.
     pub fn set_status_bit(&mut self, word: &str, bit: u8, on: bool) -> bool {
-        self.machine.set_status_bit(word, bit, on)
+        let mut probe = self.machine().clone();
+        if !probe.set_status_bit(word, bit, on) {
+            return false;
+        }
+        self.edit(Edit::StatusBit {
+            word: word.to_string(),
+            bit,
+            on,
+        });
+        true
     }
 
     pub fn set_input(&mut self, index: usize, high: bool) {
-        self.machine.set_input(index, high);
+        if index < self.machine().input_count() && self.machine().input(index) != high {
+            self.edit(Edit::Input { input: index, high });
+        }
     }
 
     pub fn set_settings(&mut self, settings: ServoSettings) {
