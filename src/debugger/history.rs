@@ -129,7 +129,11 @@ impl Timeline {
 
     /// Run forward until `tick_limit`, the end or a fault, or `stop` (asked before each command
     /// starts) — applying events at their ticks, recording the trace and keeping checkpoints.
-    pub fn forward<F: FnMut(&SilverLode) -> bool>(&mut self, tick_limit: u64, mut stop: F) -> StopReason {
+    pub fn forward<F: FnMut(&SilverLode) -> bool>(
+        &mut self,
+        tick_limit: u64,
+        mut stop: F,
+    ) -> StopReason {
         loop {
             let next_event = self.events.get(self.next_event).map(|e| e.tick);
             let limit = next_event.map_or(tick_limit, |t| t.min(tick_limit));
@@ -143,7 +147,9 @@ impl Timeline {
             let reason = machine.run_observed(limit, &mut stop, |m| {
                 let t = m.ticks();
                 trace.record(t, motion_values(m));
-                if t.is_multiple_of(CHECKPOINT_EVERY) && checkpoints.last().is_none_or(|c| c.ticks() < t) {
+                if t.is_multiple_of(CHECKPOINT_EVERY)
+                    && checkpoints.last().is_none_or(|c| c.ticks() < t)
+                {
                     checkpoints.push(m.clone());
                 }
                 *furthest = (*furthest).max(t);
@@ -176,7 +182,11 @@ impl Timeline {
 
     /// The last tick before `before` where a command was about to start and `wanted` holds,
     /// searching back one checkpoint interval at a time. Leaves the machine where it was.
-    pub fn find_back<F: FnMut(&SilverLode) -> bool>(&mut self, before: u64, mut wanted: F) -> Option<u64> {
+    pub fn find_back<F: FnMut(&SilverLode) -> bool>(
+        &mut self,
+        before: u64,
+        mut wanted: F,
+    ) -> Option<u64> {
         let here = self.now();
         let mut end = before;
         let mut found = None;

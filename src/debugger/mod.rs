@@ -327,7 +327,9 @@ impl Debugger {
         let start = self.machine().ticks();
         let reason = self
             .timeline
-            .forward(start.saturating_add(STEP_TICKS_AT_ONCE), |m| m.ticks() > start);
+            .forward(start.saturating_add(STEP_TICKS_AT_ONCE), |m| {
+                m.ticks() > start
+            });
         if reason == StopReason::TickLimit {
             self.goal = Some(Goal::FinishStep);
         } else {
@@ -447,7 +449,8 @@ impl Debugger {
                     StopReason::Predicate
                 }
                 Goal::FinishStep => self.timeline.forward(now + CHUNK_TICKS, |_| true),
-                Goal::ToTick(t) => match self.timeline.forward(t.min(now + CHUNK_TICKS), |_| false) {
+                Goal::ToTick(t) => match self.timeline.forward(t.min(now + CHUNK_TICKS), |_| false)
+                {
                     StopReason::TickLimit if self.machine().ticks() >= t => StopReason::Predicate,
                     other => other,
                 },
@@ -524,7 +527,9 @@ impl Debugger {
         if tick <= self.furthest_tick() {
             self.timeline.goto(tick);
             self.event = Some(Event::ReachedTick(self.machine().ticks()));
-        } else if self.machine().run_state().is_live() || self.machine().ticks() < self.furthest_tick() {
+        } else if self.machine().run_state().is_live()
+            || self.machine().ticks() < self.furthest_tick()
+        {
             self.timeline.goto(self.furthest_tick());
             self.goal = Some(Goal::ToTick(tick));
         }
