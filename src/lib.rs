@@ -8,4 +8,5 @@ pub mod atomic;
 pub mod debugger;
 pub mod machine;
 pub mod runner;
+pub mod session;
 pub mod ui;

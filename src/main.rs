@@ -5,7 +5,11 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+use std::sync::Arc;
+
+use servoscope::machine::silverlode::{ServoSettings, SilverLode, assemble};
 use servoscope::runner::{self, DEFAULT_MAX_TICKS, Report};
+use servoscope::session::Session;
 
 #[derive(Parser)]
 #[command(
@@ -40,6 +44,9 @@ enum Command {
         /// Print exactly one JSON object on stdout.
         #[arg(long)]
         json: bool,
+        /// When the run stops, save a session that reproduces this exact state.
+        #[arg(long, value_name = "OUT.ron")]
+        save_session: Option<PathBuf>,
     },
 }
 
@@ -51,7 +58,14 @@ fn main() -> ExitCode {
             max_ticks,
             inputs,
             json,
-        }) => ExitCode::from(run(&file, max_ticks, &inputs, json)),
+            save_session,
+        }) => ExitCode::from(run(
+            &file,
+            max_ticks,
+            &inputs,
+            json,
+            save_session.as_deref(),
+        )),
         None => match servoscope::ui::run_gui(cli.file, cli.frame_stats) {
             Ok(()) => ExitCode::SUCCESS,
             Err(e) => {
@@ -63,7 +77,13 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(file: &Path, max_ticks: u64, inputs: &[String], json: bool) -> u8 {
+/// A `.ron` file is a saved session; anything else a program.
+fn is_session(file: &Path) -> bool {
+    file.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("ron"))
+}
+
+fn run(file: &Path, max_ticks: u64, inputs: &[String], json: bool, save: Option<&Path>) -> u8 {
     let mut toggles = Vec::new();
     for spec in inputs {
         match runner::parse_input_spec(spec) {
@@ -75,15 +95,49 @@ fn run(file: &Path, max_ticks: u64, inputs: &[String], json: bool) -> u8 {
         }
     }
     let name = file.display().to_string();
-    let source = match std::fs::read_to_string(file) {
-        Ok(s) => s,
-        Err(e) => {
-            eprintln!("servoscope: cannot read {name}: {e}");
+    let (program_name, program_path, source, events, settings) = if is_session(file) {
+        if !toggles.is_empty() {
+            eprintln!(
+                "servoscope: --input cannot be combined with a session (its inputs are in it)"
+            );
             return 2;
         }
+        let session = match Session::load(file) {
+            Ok(s) => s,
+            Err(e) => {
+                eprintln!("servoscope: {e}");
+                return 2;
+            }
+        };
+        (
+            session.program_name,
+            session.program_path,
+            session.program,
+            session.events,
+            session.servo,
+        )
+    } else {
+        match std::fs::read_to_string(file) {
+            Ok(text) => {
+                let short = file
+                    .file_name()
+                    .map_or(name.clone(), |n| n.to_string_lossy().into_owned());
+                (
+                    short,
+                    Some(file.to_path_buf()),
+                    text,
+                    runner::toggles_to_events(&toggles),
+                    ServoSettings::default(),
+                )
+            }
+            Err(e) => {
+                eprintln!("servoscope: cannot read {name}: {e}");
+                return 2;
+            }
+        }
     };
-    let mut machine = match runner::load(&source) {
-        Ok(m) => m,
+    let program = match assemble(&source) {
+        Ok(p) => p,
         Err(diagnostics) => {
             for d in &diagnostics {
                 eprintln!("{}", d.with_file(&name));
@@ -95,8 +149,24 @@ fn run(file: &Path, max_ticks: u64, inputs: &[String], json: bool) -> u8 {
             return 2;
         }
     };
-    runner::run_with_inputs(&mut machine, &toggles, max_ticks);
+    let mut machine = SilverLode::with_settings(Arc::new(program), settings);
+    // A session resumes at its saved tick; the events decide everything, so running on from
+    // tick 0 with them gives exactly the straight run's result.
+    runner::run_events(&mut machine, &events, max_ticks);
     let report = Report::of(&machine);
+    if let Some(out) = save {
+        let session = runner::session_of_run(
+            &program_name,
+            program_path.as_deref(),
+            &source,
+            &machine,
+            events,
+        );
+        if let Err(e) = session.save(out) {
+            eprintln!("servoscope: {e}");
+            return 2;
+        }
+    }
     if json {
         println!("{}", report.to_json());
     } else {

@@ -7,8 +7,10 @@ use std::sync::Arc;
 use serde::Serialize;
 use serde::ser::{SerializeMap, Serializer};
 
+use crate::debugger::history::{Edit, UserEvent};
 use crate::machine::silverlode::{SilverLode, assemble};
 use crate::machine::{Diagnostic, FaultInfo, Machine, RunState};
+use crate::session::{DIALECT, FORMAT_VERSION, Session};
 
 pub const DEFAULT_MAX_TICKS: u64 = 10_000_000;
 
@@ -47,25 +49,73 @@ pub fn parse_input_spec(spec: &str) -> Result<Vec<InputToggle>, String> {
         .collect()
 }
 
-/// Run `machine` until it stops or reaches `max_ticks`, applying `toggles` on the way. Toggles at
-/// a tick before the machine's current tick are taken as already applied.
-pub fn run_with_inputs(machine: &mut SilverLode, toggles: &[InputToggle], max_ticks: u64) {
+/// Input toggles as timeline events that set each input's level (inputs start low).
+pub fn toggles_to_events(toggles: &[InputToggle]) -> Vec<UserEvent> {
     let mut toggles = toggles.to_vec();
     toggles.sort();
-    let mut next = toggles.partition_point(|t| t.tick < machine.ticks());
+    let mut levels = [false; 3];
+    toggles
+        .iter()
+        .filter(|t| t.input < 3)
+        .map(|t| {
+            levels[t.input] = !levels[t.input];
+            UserEvent {
+                tick: t.tick,
+                edit: Edit::Input {
+                    input: t.input,
+                    high: levels[t.input],
+                },
+            }
+        })
+        .collect()
+}
+
+/// Run `machine` until it stops or reaches `max_ticks`, applying each event when the tick
+/// counter equals its tick (before that tick runs). Events before the current tick count as
+/// already applied. The same rule as the debugger's timeline, so a run and a session agree.
+pub fn run_events(machine: &mut SilverLode, events: &[UserEvent], max_ticks: u64) {
+    let mut events = events.to_vec();
+    events.sort_by_key(|e| e.tick);
+    let mut next = events.partition_point(|e| e.tick < machine.ticks());
     loop {
-        while let Some(t) = toggles.get(next).filter(|t| t.tick <= machine.ticks()) {
-            let now = machine.input(t.input);
-            machine.set_input(t.input, !now);
+        while let Some(e) = events.get(next).filter(|e| e.tick <= machine.ticks()) {
+            e.edit.apply(machine);
             next += 1;
         }
-        let until = toggles
+        let until = events
             .get(next)
-            .map_or(max_ticks, |t| t.tick.min(max_ticks));
+            .map_or(max_ticks, |e| e.tick.min(max_ticks));
         machine.run_until(until, |_| false);
         if !machine.run_state().is_live() || machine.ticks() >= max_ticks {
             return;
         }
+    }
+}
+
+/// Run `machine` until it stops or reaches `max_ticks`, toggling inputs on the way.
+pub fn run_with_inputs(machine: &mut SilverLode, toggles: &[InputToggle], max_ticks: u64) {
+    run_events(machine, &toggles_to_events(toggles), max_ticks);
+}
+
+/// A session that reproduces a headless run: the program, its events, the tick it stopped at.
+pub fn session_of_run(
+    name: &str,
+    path: Option<&std::path::Path>,
+    source: &str,
+    machine: &SilverLode,
+    events: Vec<UserEvent>,
+) -> Session {
+    Session {
+        format: FORMAT_VERSION,
+        dialect: DIALECT.to_string(),
+        program_name: name.to_string(),
+        program_path: path.map(std::path::Path::to_path_buf),
+        program: source.to_string(),
+        servo: machine.settings(),
+        events,
+        tick: machine.ticks(),
+        furthest: machine.ticks(),
+        ..Session::default()
     }
 }
 

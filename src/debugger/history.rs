@@ -230,7 +230,10 @@ impl Timeline {
     }
 
     pub fn mark(&mut self, kind: MarkKind, line: usize) {
-        let tick = self.now();
+        self.mark_at(self.now(), kind, line);
+    }
+
+    pub fn mark_at(&mut self, tick: u64, kind: MarkKind, line: usize) {
         if !self.marks.iter().any(|m| m.tick == tick && m.kind == kind) {
             self.marks.push(Mark { tick, kind, line });
             self.marks.sort_by_key(|m| m.tick);

@@ -246,6 +246,13 @@ impl Debugger {
     pub fn marks(&self) -> &[Mark] {
         self.timeline.marks()
     }
+    /// Put back the marks of a saved session.
+    pub fn restore_marks(&mut self, marks: impl IntoIterator<Item = (u64, MarkKind, usize)>) {
+        for (tick, kind, line) in marks {
+            self.timeline.mark_at(tick, kind, line);
+        }
+    }
+
     /// Bytes the history holds (checkpoints, events, trace).
     pub fn history_bytes(&self) -> usize {
         self.timeline.memory_bytes()

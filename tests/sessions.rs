@@ -1,0 +1,329 @@
+//! Debug sessions: save → load rebuilds exactly the same state (machine, trace, history,
+//! marks, breakpoints); corrupt, truncated, foreign and newer files are refused clearly; the
+//! runner saves and resumes sessions exactly as spec §8 says; the example sessions load.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::Duration;
+
+use servoscope::debugger::history::CHECKPOINT_EVERY;
+use servoscope::debugger::{Debugger, Speed};
+use servoscope::machine::{Machine, RunState};
+use servoscope::session::{Session, SessionError, ViewSettings};
+
+fn temp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("servoscope-sessions-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn servoscope(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_servoscope"))
+        .args(args)
+        .output()
+        .expect("runs")
+}
+
+const PROGRAM: &str = "\
+        CLD Q_INIT, 10, 40, 3
+loop:   CLD Q_PUSH_HEAD, 11, 40, 5
+        CLD Q_POP_TAIL, 12, 40, 0
+        MRV 300, 386500, 80530640, IO2
+        CLC INC, 20
+        DLY 500
+        CLD SUB, 21, 20, 40
+        JMP loop, !ZERO
+        END
+";
+
+fn busy_debugger() -> Debugger {
+    let mut d = Debugger::new("prog.qsl", PROGRAM);
+    d.set_speed(Speed::Unlimited);
+    d.toggle_breakpoint(5);
+    let mut drive = |d: &mut Debugger, tick: u64| {
+        d.goto_tick(tick);
+        while d.advance(0.016, Duration::from_secs(5)) {}
+    };
+    drive(&mut d, 2_000);
+    d.set_input(1, true);
+    drive(&mut d, 2_500);
+    d.set_input(1, false);
+    d.set_register(30, 0xBEEF);
+    d.set_status_bit("ISW", 12, true);
+    drive(&mut d, CHECKPOINT_EVERY + 4_000);
+    d.run();
+    while d.advance(0.016, Duration::from_secs(5)) {}
+    assert_eq!(
+        d.event().map(|e| e.describe()),
+        Some("Breakpoint hit at line 5".to_string())
+    );
+    d.goto_tick(CHECKPOINT_EVERY + 123);
+    d
+}
+
+#[test]
+fn save_then_load_rebuilds_exactly_the_same_state() {
+    let d = busy_debugger();
+    let view = ViewSettings {
+        selected_register: Some(30),
+        plot_velocity: true,
+        ..ViewSettings::default()
+    };
+    let session = Session::capture(&d, Some(PathBuf::from("prog.qsl")), view.clone());
+    let path = temp("busy.ron");
+    session.save(&path).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("format: 1"), "explicit version");
+    assert!(text.contains("Input("), "the input timeline is in the file");
+    assert!(text.lines().count() > 10, "pretty-printed, diffable");
+
+    let loaded = Session::load(&path).unwrap();
+    assert_eq!(loaded, session);
+    assert_eq!(loaded.view, view);
+    let r = loaded.restore("busy.ron").unwrap();
+    assert!(
+        r.machine() == d.machine(),
+        "the whole machine state is identical"
+    );
+    assert_eq!(r.machine().ticks(), CHECKPOINT_EVERY + 123);
+    assert_eq!(
+        r.furthest_tick(),
+        d.furthest_tick(),
+        "the history reaches as far"
+    );
+    assert_eq!(r.events(), d.events());
+    assert_eq!(r.marks(), d.marks());
+    assert_eq!(r.breakpoints(), d.breakpoints());
+    let (a, b) = (d.trace(), r.trace());
+    assert_eq!(a.len(), b.len());
+    assert!(a.samples().eq(b.samples()), "the plot trace is identical");
+    // And the future replays identically from the loaded session.
+    let mut d = d;
+    let mut r = r;
+    for t in [d.furthest_tick(), 10, CHECKPOINT_EVERY] {
+        d.goto_tick(t);
+        r.goto_tick(t);
+        assert!(d.machine() == r.machine(), "tick {t}");
+    }
+    let _ = std::fs::remove_file(&path);
+}
+
+#[test]
+fn bad_files_are_refused_and_nothing_is_lost() {
+    let good = Session::capture(&busy_debugger(), None, ViewSettings::default())
+        .to_ron()
+        .unwrap();
+    let truncated = &good[..good.len() / 2];
+    let cases: Vec<(&str, String)> = vec![
+        ("truncated", truncated.to_string()),
+        ("garbage", "\u{1}\u{2} not a session".to_string()),
+        ("json", "{\"format\": 1}".to_string()),
+        ("newer", good.replacen("format: 1", "format: 7", 1)),
+        ("foreign", "(name: \"a recipe\", servings: 4)".to_string()),
+        ("bad program", good.replacen("CLD Q_INIT", "CLK Q_INIT", 1)),
+    ];
+    for (what, text) in cases {
+        let path = temp(&format!("{}.ron", what.replace(' ', "_")));
+        std::fs::write(&path, &text).unwrap();
+        let result = Session::load(&path).and_then(|s| s.restore("x"));
+        let message = match result {
+            Ok(_) => panic!("{what}: accepted"),
+            Err(e) => e.to_string(),
+        };
+        assert!(!message.is_empty(), "{what}");
+        if what == "newer" {
+            assert!(message.contains("newer servoscope"), "{message}");
+        }
+        // The runner: exit 2, a message on stderr, nothing on stdout.
+        let out = servoscope(&["run", path.to_str().unwrap(), "--json"]);
+        assert_eq!(out.status.code(), Some(2), "{what}");
+        assert!(out.stdout.is_empty(), "{what}");
+        assert!(!out.stderr.is_empty(), "{what}");
+        let _ = std::fs::remove_file(&path);
+    }
+    let missing = Session::load(Path::new("/nonexistent/s.ron"));
+    assert!(matches!(missing, Err(SessionError::Read { .. })));
+}
+
+#[test]
+fn a_failed_save_leaves_the_old_file() {
+    let path = temp("keep.ron");
+    std::fs::write(&path, "old contents").unwrap();
+    let session = Session::capture(&Debugger::new("p", "END"), None, ViewSettings::default());
+    // A directory where the temporary file would go cannot be written: point at a missing one.
+    let bad = temp("missing-dir").join("x").join("s.ron");
+    assert!(session.save(&bad).is_err());
+    session.save(&path).unwrap();
+    assert!(
+        std::fs::read_to_string(&path)
+            .unwrap()
+            .contains("format: 1")
+    );
+    let _ = std::fs::remove_file(&path);
+}
+
+fn program_file(text: &str, name: &str) -> PathBuf {
+    let path = temp(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn a_resumed_run_ends_identical_to_a_straight_one() {
+    let prog = program_file(PROGRAM, "resume.qsl");
+    let prog = prog.to_str().unwrap();
+    let straight = servoscope(&["run", prog, "--input", "IO2=1500,1700", "--json"]);
+    assert_eq!(straight.status.code(), Some(0));
+
+    let saved = temp("resume.ron");
+    let saved = saved.to_str().unwrap();
+    let first = servoscope(&[
+        "run",
+        prog,
+        "--input",
+        "IO2=1500,1700",
+        "--max-ticks",
+        "1600",
+        "--save-session",
+        saved,
+        "--json",
+    ]);
+    assert_eq!(first.status.code(), Some(3), "stopped by the limit");
+    let session = Session::load(Path::new(saved)).unwrap();
+    assert_eq!(session.tick, 1600);
+    assert_eq!(
+        session.events.len(),
+        2,
+        "both toggles, the second still to come"
+    );
+
+    let resumed = servoscope(&["run", saved, "--json"]);
+    assert_eq!(resumed.status.code(), Some(0));
+    assert_eq!(
+        resumed.stdout, straight.stdout,
+        "exactly what the straight run printed"
+    );
+
+    // --max-ticks counts from tick 0, as in a straight run.
+    let limited = servoscope(&["run", saved, "--max-ticks", "3000", "--json"]);
+    let straight_limited = servoscope(&[
+        "run",
+        prog,
+        "--input",
+        "IO2=1500,1700",
+        "--max-ticks",
+        "3000",
+        "--json",
+    ]);
+    assert_eq!(limited.stdout, straight_limited.stdout);
+    assert_eq!(limited.status.code(), Some(3));
+
+    // A session cannot take extra inputs.
+    let mixed = servoscope(&["run", saved, "--input", "IO1=5"]);
+    assert_eq!(mixed.status.code(), Some(2));
+}
+
+#[test]
+fn a_session_saved_in_the_debugger_resumes_in_the_runner() {
+    let d = busy_debugger();
+    let path = temp("from_gui.ron");
+    Session::capture(&d, None, ViewSettings::default())
+        .save(&path)
+        .unwrap();
+    let out = servoscope(&[
+        "run",
+        path.to_str().unwrap(),
+        "--max-ticks",
+        &(CHECKPOINT_EVERY + 123).to_string(),
+        "--json",
+    ]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["ticks"], CHECKPOINT_EVERY + 123);
+    assert_eq!(
+        v["registers"]["30"], 0xBEEF,
+        "the register edit was replayed"
+    );
+    assert_eq!(v["registers"]["20"], d.machine().reg(20));
+    assert_eq!(v["registers"]["1"], d.machine().reg(1));
+}
+
+fn example(name: &str) -> (Session, Debugger) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("sessions")
+        .join(name);
+    let s = Session::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let d = s.restore(name).unwrap_or_else(|e| panic!("{e}"));
+    (s, d)
+}
+
+#[test]
+fn every_example_session_is_tested() {
+    let mut names: Vec<String> =
+        std::fs::read_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions"))
+            .unwrap()
+            .filter_map(|e| e.ok()?.file_name().into_string().ok())
+            .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        [
+            "fifo_queue_lesson.ron",
+            "fixed_point_lesson.ron",
+            "homing_on_input.ron"
+        ]
+    );
+}
+
+#[test]
+fn fixed_point_lesson_opens_on_the_multiply() {
+    let (s, d) = example("fixed_point_lesson.ron");
+    assert_eq!(
+        d.machine().pc_line(),
+        Some(16),
+        "about to run MULT_S64_SHR16"
+    );
+    assert_eq!(d.machine().reg(20), 40000);
+    assert!(d.breakpoints().contains(&16));
+    assert_eq!(s.view.selected_register, Some(21));
+    let mut d = d;
+    d.step_command();
+    assert_eq!(d.machine().reg(21), 1016, "(40000 × 1665) >> 16");
+}
+
+#[test]
+fn fifo_queue_lesson_has_its_breakpoints() {
+    let (_, mut d) = example("fifo_queue_lesson.ron");
+    assert_eq!(d.machine().ticks(), 0);
+    d.set_speed(Speed::Unlimited);
+    d.run();
+    while d.advance(0.016, Duration::from_secs(5)) {}
+    assert_eq!(d.machine().pc_line(), Some(19), "stops on the first pop");
+    let h = d.machine().queues()[0].header.clone().unwrap();
+    assert_eq!(h.items, [1000, 2500, -500]);
+}
+
+#[test]
+fn homing_session_opens_stopped_on_the_sensor() {
+    let (_, d) = example("homing_on_input.ron");
+    let m = d.machine();
+    assert_eq!(m.ticks(), 3001);
+    assert!(m.input(2), "IO3 high");
+    assert!(m.isw() & 1 << 11 != 0, "input found");
+    assert_eq!(m.reg(4), m.state().regs[4]);
+    assert!(
+        (630..=680).contains(&m.reg(4)),
+        "trigger position {}",
+        m.reg(4)
+    );
+    assert_eq!(m.run_state().label(), "waiting for move", "braking");
+    let mut d = d;
+    d.set_speed(Speed::Unlimited);
+    d.run();
+    while d.advance(0.016, Duration::from_secs(5)) {}
+    assert_eq!(
+        d.machine().pc_line(),
+        Some(13),
+        "the breakpoint on SUB_TARGET"
+    );
+    assert_ne!(d.machine().run_state(), RunState::Faulted);
+}
