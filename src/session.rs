@@ -27,7 +27,7 @@ use crate::machine::silverlode::ServoSettings;
 pub const FORMAT_VERSION: u32 = 1;
 pub const DIALECT: &str = "silverlode";
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct Session {
     /// Session format version; 0 means the field was missing (not a session).
@@ -49,25 +49,6 @@ pub struct Session {
     pub furthest: u64,
     pub marks: Vec<SessionMark>,
     pub view: ViewSettings,
-}
-
-impl Default for Session {
-    fn default() -> Self {
-        Session {
-            format: 0,
-            dialect: String::new(),
-            program_name: String::new(),
-            program_path: None,
-            program: String::new(),
-            breakpoints: Vec::new(),
-            servo: ServoSettings::default(),
-            events: Vec::new(),
-            tick: 0,
-            furthest: 0,
-            marks: Vec::new(),
-            view: ViewSettings::default(),
-        }
-    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
