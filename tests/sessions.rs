@@ -40,7 +40,7 @@ fn busy_debugger() -> Debugger {
     let mut d = Debugger::new("prog.qsl", PROGRAM);
     d.set_speed(Speed::Unlimited);
     d.toggle_breakpoint(5);
-    let mut drive = |d: &mut Debugger, tick: u64| {
+    let drive = |d: &mut Debugger, tick: u64| {
         d.goto_tick(tick);
         while d.advance(0.016, Duration::from_secs(5)) {}
     };
