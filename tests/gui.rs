@@ -21,7 +21,7 @@ fn harness(app: ServoscopeApp) -> Harness<'static, ServoscopeApp> {
 
 fn app_with(source: &str) -> ServoscopeApp {
     let mut app = ServoscopeApp::new(Prefs::default());
-    app.debugger.load("test.qsl", source);
+    app.load_program("test.qsl", source);
     app
 }
 
@@ -400,4 +400,164 @@ fn csv_export_writes_the_trace() {
         assert!((row[1] - row[0] * 0.12).abs() < 1e-9);
     }
     h.get_by_label_contains("Exported");
+}
+
+#[test]
+fn stepping_back_with_the_keys() {
+    let mut h = harness(app_with(
+        "WRP 11, 1\nDLY 20\nWRP 12, 2\nloop: CLC INC, 13\nJMP loop",
+    ));
+    for _ in 0..3 {
+        h.key_press(Key::F10);
+        h.run_steps(1);
+    }
+    assert_eq!(h.state().debugger.machine().reg(12), 2);
+    h.key_press_modifiers(Modifiers::SHIFT, Key::F10);
+    h.run_steps(2);
+    let m = h.state().debugger.machine();
+    assert_eq!(
+        (m.reg(12), m.ticks(), m.pc_line()),
+        (0, 21, Some(3)),
+        "WRP 12 undone"
+    );
+    h.key_press_modifiers(Modifiers::SHIFT, Key::F11);
+    h.run_steps(2);
+    assert_eq!(
+        h.state().debugger.machine().ticks(),
+        20,
+        "one tick back, inside the DLY"
+    );
+    // Reverse-continue to a breakpoint hit earlier in the run.
+    h.state_mut().debugger.toggle_breakpoint(4);
+    h.state_mut().debugger.goto_tick(200);
+    h.run_steps(3);
+    h.key_press_modifiers(Modifiers::SHIFT, Key::F5);
+    h.run_steps(2);
+    let m = h.state().debugger.machine();
+    assert_eq!(m.pc_line(), Some(4));
+    assert!(
+        m.ticks() < 200 && m.ticks() > 190,
+        "the last pass before tick 200: {}",
+        m.ticks()
+    );
+}
+
+#[test]
+fn the_timeline_and_go_to_tick() {
+    let mut h = harness(app_with("loop: CLC INC, 13\nJMP loop"));
+    h.state_mut().debugger.goto_tick(1000);
+    h.run_steps(3);
+    assert_eq!(h.state().debugger.machine().ticks(), 1000);
+    h.get_by_label("Timeline");
+    h.get_by_label("Go to tick").focus();
+    h.step();
+    h.get_by_label("Go to tick").type_text("250");
+    h.key_press(Key::Enter);
+    h.run_steps(2);
+    assert_eq!(h.state().debugger.machine().ticks(), 250);
+    assert_eq!(h.state().debugger.machine().reg(13), 125);
+    assert_eq!(
+        h.state().debugger.furthest_tick(),
+        1000,
+        "the future is kept"
+    );
+}
+
+#[test]
+fn clicking_the_plot_goes_to_that_tick() {
+    let mut h = harness(app_with("MAV 2000, 386500, 80530640\nDLY 3000\nEND"));
+    h.state_mut().debugger.set_speed(Speed::Unlimited);
+    h.key_press(Key::F5);
+    h.run_steps(4);
+    let end = h.state().debugger.machine().ticks();
+    let header = h.get_by_label("Position").rect();
+    let target = egui::pos2(header.center().x + 120.0, header.bottom() + 80.0);
+    h.input_mut().events.push(egui::Event::PointerMoved(target));
+    h.step();
+    for pressed in [true, false] {
+        h.input_mut().events.push(egui::Event::PointerButton {
+            pos: target,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: Modifiers::NONE,
+        });
+        h.step();
+    }
+    h.run_steps(2);
+    let app = h.state();
+    let selected = app.plot.selected_tick.expect("a tick was selected");
+    assert!(selected < end, "somewhere inside the run");
+    assert_eq!(
+        app.debugger.machine().ticks(),
+        selected,
+        "and the debugger went there"
+    );
+}
+
+#[test]
+fn sessions_save_with_ctrl_s_and_reopen() {
+    let dir = std::env::temp_dir().join(format!("servoscope-gui-sessions-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let session_file = dir.join("work.ron");
+    let mut h = harness(app_with("WRP 20, 5\nloop: CLC INC, 21\nJMP loop"));
+    assert!(!h.state().window_title().ends_with('●'));
+    h.key_press(Key::F10);
+    h.key_press(Key::F10);
+    h.run_steps(2);
+    h.state_mut().debugger.toggle_breakpoint(3);
+    h.state_mut().debugger.set_register(30, 77);
+    h.run_steps(1);
+    assert!(
+        h.state().window_title().ends_with('●'),
+        "unsaved changes are marked"
+    );
+    h.state_mut().session_path = Some(session_file.clone());
+    h.key_press_modifiers(Modifiers::COMMAND, Key::S);
+    h.run_steps(2);
+    assert!(session_file.exists());
+    assert!(!h.state().window_title().ends_with('●'), "saved");
+    assert!(h.state().window_title().contains("[work.ron]"));
+    let saved_machine = h.state().debugger.machine().clone();
+
+    // More work, then open the session again: the prompt asks first.
+    h.key_press(Key::F10);
+    h.run_steps(2);
+    h.state_mut().apply(
+        &egui::Context::default(),
+        servoscope::ui::Command::OpenPath(session_file.clone()),
+    );
+    h.run_steps(2);
+    h.get_by_label("Unsaved changes");
+    h.get_by_label("Cancel").click();
+    h.run_steps(2);
+    assert!(h.state().pending.is_none());
+    assert_ne!(
+        h.state().debugger.machine(),
+        &saved_machine,
+        "cancel kept the current state"
+    );
+    h.state_mut().apply(
+        &egui::Context::default(),
+        servoscope::ui::Command::OpenPath(session_file.clone()),
+    );
+    h.run_steps(2);
+    h.get_by_label("Discard changes").click();
+    h.run_steps(2);
+    let app = h.state();
+    assert_eq!(
+        app.debugger.machine(),
+        &saved_machine,
+        "exactly the saved moment"
+    );
+    assert!(app.debugger.breakpoints().contains(&3));
+    assert_eq!(app.debugger.machine().reg(30), 77);
+
+    // A corrupt session is refused and the current one stays.
+    let bad = dir.join("bad.ron");
+    std::fs::write(&bad, "(format: 1, dialect: \"silverlode\", program: ").unwrap();
+    h.state_mut().open_path(bad);
+    h.run_steps(2);
+    assert_eq!(h.state().debugger.machine(), &saved_machine);
+    h.get_by_label_contains("not a readable session file");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -17,6 +17,12 @@ pub const RUN_TO_CURSOR: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COM
 pub const TOGGLE_BREAKPOINT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F9);
 pub const ASSEMBLE: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Enter);
 pub const OPEN: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::O);
+pub const SAVE: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::S);
+pub const SAVE_AS: KeyboardShortcut =
+    KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::S);
+pub const REVERSE: KeyboardShortcut = KeyboardShortcut::new(Modifiers::SHIFT, Key::F5);
+pub const STEP_BACK: KeyboardShortcut = KeyboardShortcut::new(Modifiers::SHIFT, Key::F10);
+pub const TICK_BACK: KeyboardShortcut = KeyboardShortcut::new(Modifiers::SHIFT, Key::F11);
 
 /// Shortcuts, most specific first (egui ignores extra Shift when matching).
 pub fn shortcuts(
@@ -30,9 +36,21 @@ pub fn shortcuts(
         if i.consume_shortcut(&RESET) {
             out.push(Command::Reset);
         }
-        // Shift+F5/F10/F11 are the time-travel keys; keep them from stepping forward.
-        for key in [Key::F5, Key::F10, Key::F11] {
-            i.consume_key(Modifiers::SHIFT, key);
+        // Shifted keys first: egui ignores an extra Shift when matching the plain ones.
+        if i.consume_shortcut(&REVERSE) {
+            out.push(Command::ReverseContinue);
+        }
+        if i.consume_shortcut(&STEP_BACK) {
+            out.push(Command::StepBackCommand);
+        }
+        if i.consume_shortcut(&TICK_BACK) {
+            out.push(Command::StepBackTick);
+        }
+        if i.consume_shortcut(&SAVE_AS) {
+            out.push(Command::SaveSessionDialog);
+        }
+        if i.consume_shortcut(&SAVE) {
+            out.push(Command::SaveSession);
         }
         if i.consume_shortcut(&RUN_TO_CURSOR)
             && let Some(line) = target
@@ -73,11 +91,16 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
     let ctx = ui.ctx().clone();
     egui::MenuBar::new().ui(ui, |ui| {
         ui.menu_button("File", |ui| {
-            if ui
-                .add(egui::Button::new("Open…").shortcut_text(shortcut_text(&ctx, &OPEN)))
-                .clicked()
-            {
-                out.push(Command::OpenDialog);
+            let file_items = [
+                ("Open program or session…", &OPEN, Command::OpenDialog),
+                ("Save session", &SAVE, Command::SaveSession),
+                ("Save session as…", &SAVE_AS, Command::SaveSessionDialog),
+            ];
+            for (label, shortcut, command) in file_items {
+                let button = egui::Button::new(label).shortcut_text(shortcut_text(&ctx, shortcut));
+                if ui.add(button).clicked() {
+                    out.push(command);
+                }
             }
             ui.menu_button("Open recent", |ui| {
                 if app.prefs.recent.is_empty() {
@@ -99,11 +122,18 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
         });
         ui.menu_button("Debug", |ui| {
             let target = app.code.target_line(&app.debugger);
-            let items: [(&str, &KeyboardShortcut, Option<Command>); 8] = [
+            let items: [(&str, &KeyboardShortcut, Option<Command>); 11] = [
                 ("Run / Continue", &RUN, Some(Command::Run)),
                 ("Pause", &PAUSE, Some(Command::Pause)),
                 ("Step command", &STEP, Some(Command::StepCommand)),
                 ("Step tick", &STEP_TICK, Some(Command::StepTick)),
+                ("Reverse continue", &REVERSE, Some(Command::ReverseContinue)),
+                (
+                    "Step back command",
+                    &STEP_BACK,
+                    Some(Command::StepBackCommand),
+                ),
+                ("Step back tick", &TICK_BACK, Some(Command::StepBackTick)),
                 (
                     "Run to cursor",
                     &RUN_TO_CURSOR,
@@ -136,6 +166,8 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
             ui.label("F5 run · F6 pause · F10 step · F11 tick");
             ui.label("F9 breakpoint · Ctrl+F10 run to cursor");
             ui.label("Ctrl+Shift+F5 reset · Ctrl+Enter assemble");
+            ui.label("Shift+F10 step back · Shift+F11 tick back · Shift+F5 reverse");
+            ui.label("Ctrl+S save session · Ctrl+O open program or session");
             ui.label("Click the gutter to toggle a breakpoint.");
         });
     });

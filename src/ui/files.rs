@@ -10,26 +10,31 @@ use super::{Command, Prefs};
 /// What a chosen path is for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Purpose {
+    /// A program or a session.
     OpenProgram,
+    SaveSession,
     ExportCsv,
 }
 
 impl Purpose {
     fn title(self) -> &'static str {
         match self {
-            Purpose::OpenProgram => "Open a program",
+            Purpose::OpenProgram => "Open a program or session",
+            Purpose::SaveSession => "Save the session",
             Purpose::ExportCsv => "Export the trace as CSV",
         }
     }
     fn button(self) -> &'static str {
         match self {
             Purpose::OpenProgram => "Open",
+            Purpose::SaveSession => "Save",
             Purpose::ExportCsv => "Export",
         }
     }
     fn command(self, path: PathBuf) -> Command {
         match self {
             Purpose::OpenProgram => Command::OpenPath(path),
+            Purpose::SaveSession => Command::SaveSessionTo(path),
             Purpose::ExportCsv => Command::ExportCsv(path),
         }
     }
@@ -71,9 +76,13 @@ impl PathRequest {
                 let dialog = rfd::FileDialog::new().set_title(purpose.title());
                 let picked = match purpose {
                     Purpose::OpenProgram => dialog
-                        .add_filter("SilverLode program", &["qsl"])
+                        .add_filter("Programs and sessions", &["qsl", "ron"])
                         .add_filter("All files", &["*"])
                         .pick_file(),
+                    Purpose::SaveSession => dialog
+                        .add_filter("servoscope session", &["ron"])
+                        .set_file_name("session.ron")
+                        .save_file(),
                     Purpose::ExportCsv => dialog
                         .add_filter("CSV", &["csv"])
                         .set_file_name("trace.csv")
@@ -116,6 +125,7 @@ impl PathRequest {
 
 pub struct Files {
     pub open: PathRequest,
+    pub save: PathRequest,
     pub export: PathRequest,
 }
 
@@ -123,6 +133,7 @@ impl Default for Files {
     fn default() -> Self {
         Files {
             open: PathRequest::new(Purpose::OpenProgram),
+            save: PathRequest::new(Purpose::SaveSession),
             export: PathRequest::new(Purpose::ExportCsv),
         }
     }
@@ -130,12 +141,12 @@ impl Default for Files {
 
 impl Files {
     pub fn is_waiting(&self) -> bool {
-        self.open.is_waiting() || self.export.is_waiting()
+        self.open.is_waiting() || self.save.is_waiting() || self.export.is_waiting()
     }
 
     /// Commands for paths the native dialogs returned.
     pub fn poll(&mut self, out: &mut Vec<Command>) {
-        for request in [&mut self.open, &mut self.export] {
+        for request in [&mut self.open, &mut self.save, &mut self.export] {
             if let Some(path) = request.poll() {
                 out.push(request.purpose.command(path));
             }
@@ -144,6 +155,7 @@ impl Files {
 
     pub fn windows(&mut self, ctx: &egui::Context, prefs: &Prefs, out: &mut Vec<Command>) {
         path_window(ctx, &mut self.open, &prefs.recent, out);
+        path_window(ctx, &mut self.save, &[], out);
         path_window(ctx, &mut self.export, &[], out);
     }
 }
@@ -183,6 +195,7 @@ fn path_window(
             if ui.button("Browse…").clicked() {
                 out.push(match purpose {
                     Purpose::OpenProgram => Command::OpenDialog,
+                    Purpose::SaveSession => Command::SaveSessionDialog,
                     Purpose::ExportCsv => Command::ExportDialog,
                 });
             }
@@ -204,7 +217,7 @@ fn path_window(
     }
 }
 
-/// Files dropped on the window open like File → Open.
+/// Files dropped on the window open like File > Open.
 pub fn dropped_files(ctx: &egui::Context, out: &mut Vec<Command>) {
     let dropped: Vec<PathBuf> = ctx.input(|i| {
         i.raw

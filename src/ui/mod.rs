@@ -10,8 +10,9 @@ pub mod queues;
 pub mod registers;
 pub mod status;
 pub mod theme;
+pub mod timeline;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
@@ -19,6 +20,7 @@ use serde::{Deserialize, Serialize};
 use crate::debugger::format::Format;
 use crate::debugger::{Debugger, Speed};
 use crate::machine::Machine;
+use crate::session::{Session, ViewSettings};
 
 /// Example programs built into the binary, for the Examples menu and the start screen.
 pub const EXAMPLES: &[(&str, &str)] = &[
@@ -75,8 +77,20 @@ pub enum Command {
     SetRegister(usize, u32),
     ToggleRegisterBit(usize, u8),
     SetStatusBit(&'static str, u8, bool),
+    StepBackCommand,
+    StepBackTick,
+    ReverseContinue,
+    GoToTick(u64),
     OpenDialog,
+    /// Open a program or a session (asks first when there are unsaved changes).
     OpenPath(PathBuf),
+    /// Ctrl+S: save to the current session file, or ask where.
+    SaveSession,
+    SaveSessionDialog,
+    SaveSessionTo(PathBuf),
+    /// Go on with the action waiting behind "unsaved changes".
+    DiscardAndContinue,
+    CancelPending,
     ExportDialog,
     ExportCsv(PathBuf),
     LoadExample(usize),
@@ -157,15 +171,33 @@ impl FrameStats {
     }
 }
 
+/// Something that would replace the current session, waiting for the user to confirm that
+/// unsaved changes may go.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Pending {
+    Open(PathBuf),
+    Example(usize),
+    Quit,
+}
+
 pub struct ServoscopeApp {
     pub debugger: Debugger,
     pub frame_stats: Option<FrameStats>,
+    /// The program file, if the program came from one.
     pub path: Option<PathBuf>,
+    /// The session file this state was loaded from or saved to.
+    pub session_path: Option<PathBuf>,
+    /// The session as last saved or loaded: differences are unsaved changes.
+    saved: Session,
     pub prefs: Prefs,
     pub code: code::CodeView,
     pub registers: registers::RegisterView,
     pub plot: plot::PlotView,
+    pub timeline: timeline::TimelineView,
     pub files: files::Files,
+    /// An action waiting for "discard unsaved changes?".
+    pub pending: Option<Pending>,
+    allow_close: bool,
     /// A message for the user that is not a program diagnostic (a file that could not be read).
     pub notice: Option<String>,
     title: String,
@@ -183,14 +215,19 @@ impl ServoscopeApp {
         let mut debugger = Debugger::new(name, text);
         debugger.set_speed(prefs.speed);
         let registers = registers::RegisterView::new(&prefs);
-        ServoscopeApp {
+        let mut app = ServoscopeApp {
             debugger,
             path: None,
+            session_path: None,
+            saved: Session::default(),
             prefs,
             code: code::CodeView::default(),
             registers,
             plot: plot::PlotView::default(),
+            timeline: timeline::TimelineView::default(),
             files: files::Files::default(),
+            pending: None,
+            allow_close: false,
             notice: None,
             frame_stats: None,
             title: String::new(),
@@ -198,48 +235,181 @@ impl ServoscopeApp {
             overhead: Duration::from_millis(8),
             last_slice: Duration::ZERO,
             theme_applied: None,
-        }
+        };
+        app.mark_saved();
+        app
     }
 
-    /// The app on a file; if it cannot be read, on the built-in example with a notice.
+    /// The app on a program or session file; if it cannot be read, on the built-in example
+    /// with a notice.
     pub fn with_file(prefs: Prefs, path: PathBuf) -> Self {
         let mut app = ServoscopeApp::new(prefs);
         app.open_path(path);
         app
     }
 
-    pub fn window_title(&self) -> String {
-        let edited = if self.debugger.is_edited() {
-            " ●"
-        } else {
-            ""
-        };
-        format!("servoscope — {}{edited}", self.debugger.name())
+    /// The view settings a session keeps.
+    pub fn view_settings(&self) -> ViewSettings {
+        ViewSettings {
+            register_format: self.registers.format,
+            register_formats: self
+                .registers
+                .overrides
+                .iter()
+                .map(|(&r, &f)| (r, f))
+                .collect(),
+            only_used_registers: self.registers.only_used,
+            selected_register: self.registers.selected,
+            plot_velocity: self.plot.show_velocity,
+            speed: self.debugger.speed(),
+        }
     }
 
-    /// Open a program file. On failure the current program stays and the user is told why.
+    fn apply_view_settings(&mut self, view: &ViewSettings) {
+        self.registers.format = view.register_format;
+        self.registers.overrides = view.register_formats.iter().copied().collect();
+        self.registers.only_used = view.only_used_registers;
+        self.registers.selected = view.selected_register;
+        self.plot.show_velocity = view.plot_velocity;
+        self.debugger.set_speed(view.speed);
+    }
+
+    /// The current debugging moment as a session.
+    pub fn session(&self) -> Session {
+        Session::capture(&self.debugger, self.path.clone(), self.view_settings())
+    }
+
+    fn mark_saved(&mut self) {
+        self.saved = self.session();
+    }
+
+    /// Changes since the session was last saved or loaded (edits, breakpoints, the tick, ...).
+    pub fn is_dirty(&self) -> bool {
+        self.debugger.is_edited() || self.session() != self.saved
+    }
+
+    pub fn window_title(&self) -> String {
+        let dirty = if self.is_dirty() { " ●" } else { "" };
+        let session = self
+            .session_path
+            .as_ref()
+            .and_then(|p| p.file_name())
+            .map(|n| format!(" [{}]", n.to_string_lossy()))
+            .unwrap_or_default();
+        format!("servoscope — {}{session}{dirty}", self.debugger.name())
+    }
+
+    fn remember(&mut self, path: &Path) {
+        self.prefs.recent.retain(|p| p != path);
+        self.prefs.recent.insert(0, path.to_path_buf());
+        self.prefs.recent.truncate(MAX_RECENT);
+    }
+
+    fn fresh_views(&mut self) {
+        self.code.reset_view();
+        self.plot.reset();
+        self.registers.selected = None;
+        self.notice = None;
+    }
+
+    /// Open a program (`.qsl`) or a session (`.ron`). On failure the current session stays
+    /// and the user is told why.
     pub fn open_path(&mut self, path: PathBuf) {
-        match std::fs::read_to_string(&path) {
-            Ok(text) => {
-                let name = path.file_name().map_or_else(
-                    || path.display().to_string(),
-                    |n| n.to_string_lossy().into_owned(),
-                );
-                self.debugger.load(name, text);
-                self.prefs.recent.retain(|p| p != &path);
-                self.prefs.recent.insert(0, path.clone());
-                self.prefs.recent.truncate(MAX_RECENT);
-                self.path = Some(path);
-                self.notice = None;
+        let is_session = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("ron"));
+        let result = if is_session {
+            self.open_session(&path)
+        } else {
+            self.open_program(&path)
+        };
+        match result {
+            Ok(()) => {
+                self.remember(&path);
                 self.files.open.close();
-                self.code.reset_view();
-                self.plot.reset();
+                self.mark_saved();
             }
-            Err(e) => {
-                let message = format!("Cannot open {}: {e}", path.display());
+            Err(message) => {
                 self.files.open.error = Some(message.clone());
                 self.notice = Some(message);
             }
+        }
+    }
+
+    /// Start over on a program given as text (an example, or a test's program).
+    pub fn load_program(&mut self, name: &str, text: &str) {
+        self.debugger.load(name, text);
+        self.path = None;
+        self.session_path = None;
+        self.fresh_views();
+        self.mark_saved();
+    }
+
+    fn open_program(&mut self, path: &Path) -> Result<(), String> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("Cannot open {}: {e}", path.display()))?;
+        let name = path.file_name().map_or_else(
+            || path.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        self.debugger.load(name, text);
+        self.path = Some(path.to_path_buf());
+        self.session_path = None;
+        self.fresh_views();
+        Ok(())
+    }
+
+    fn open_session(&mut self, path: &Path) -> Result<(), String> {
+        let name = path.display().to_string();
+        let session = Session::load(path).map_err(|e| e.to_string())?;
+        let debugger = session.restore(&name).map_err(|e| e.to_string())?;
+        self.debugger = debugger;
+        self.path = session.program_path.clone();
+        self.session_path = Some(path.to_path_buf());
+        self.fresh_views();
+        self.apply_view_settings(&session.view);
+        Ok(())
+    }
+
+    /// Save the session to `path` (atomically). Errors leave the old file and are reported.
+    pub fn save_session_to(&mut self, path: PathBuf) {
+        match self.session().save(&path) {
+            Ok(()) => {
+                self.session_path = Some(path.clone());
+                self.remember(&path);
+                self.files.save.close();
+                self.mark_saved();
+                self.notice = Some(format!("Session saved to {}", path.display()));
+                // Saved: whatever waited behind "unsaved changes" can go on.
+                if let Some(action) = self.pending.take() {
+                    self.perform(action);
+                }
+            }
+            Err(e) => {
+                self.files.save.error = Some(e.to_string());
+                self.notice = Some(e.to_string());
+            }
+        }
+    }
+
+    /// Run `action` now, or ask first when there are unsaved changes.
+    fn guarded(&mut self, action: Pending) {
+        if self.is_dirty() {
+            self.pending = Some(action);
+        } else {
+            self.perform(action);
+        }
+    }
+
+    fn perform(&mut self, action: Pending) {
+        match action {
+            Pending::Open(path) => self.open_path(path),
+            Pending::Example(i) => {
+                if let Some(&(name, text)) = EXAMPLES.get(i) {
+                    self.load_program(name, text);
+                }
+            }
+            Pending::Quit => self.allow_close = true,
         }
     }
 
@@ -248,6 +418,10 @@ impl ServoscopeApp {
         match command {
             Command::StepCommand => d.step_command(),
             Command::StepTick => d.step_tick(),
+            Command::StepBackCommand => d.step_back_command(),
+            Command::StepBackTick => d.step_back_tick(),
+            Command::ReverseContinue => d.reverse_continue(),
+            Command::GoToTick(tick) => d.goto_tick(tick),
             Command::Run => d.run(),
             Command::Pause => d.pause(),
             Command::Reset => d.reset(),
@@ -270,7 +444,13 @@ impl ServoscopeApp {
                 d.set_status_bit(word, bit, on);
             }
             Command::OpenDialog => self.files.open.start(ctx),
-            Command::OpenPath(path) => self.open_path(path),
+            Command::OpenPath(path) => self.guarded(Pending::Open(path)),
+            Command::SaveSession => match self.session_path.clone() {
+                Some(path) => self.save_session_to(path),
+                None => self.files.save.start(ctx),
+            },
+            Command::SaveSessionDialog => self.files.save.start(ctx),
+            Command::SaveSessionTo(path) => self.save_session_to(path),
             Command::ExportDialog => self.files.export.start(ctx),
             Command::ExportCsv(path) => match self.debugger.export_trace_csv(&path) {
                 Ok(rows) => {
@@ -283,14 +463,16 @@ impl ServoscopeApp {
                     self.notice = Some(message);
                 }
             },
-            Command::LoadExample(i) => {
-                if let Some(&(name, text)) = EXAMPLES.get(i) {
-                    self.debugger.load(name, text);
-                    self.path = None;
-                    self.code.reset_view();
-                    self.plot.reset();
+            Command::LoadExample(i) => self.guarded(Pending::Example(i)),
+            Command::DiscardAndContinue => {
+                if let Some(action) = self.pending.take() {
+                    self.perform(action);
+                    if self.allow_close {
+                        ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+                    }
                 }
             }
+            Command::CancelPending => self.pending = None,
             Command::SetDark(dark) => self.prefs.dark = dark,
         }
     }
@@ -301,6 +483,15 @@ impl ServoscopeApp {
         if self.theme_applied != Some(self.prefs.dark) {
             theme::apply(&ctx, self.prefs.dark);
             self.theme_applied = Some(self.prefs.dark);
+        }
+
+        // Closing with unsaved changes asks first.
+        if ctx.input(|i| i.viewport().close_requested()) && !self.allow_close && self.is_dirty() {
+            ctx.send_viewport_cmd(egui::ViewportCommand::CancelClose);
+            self.pending = Some(Pending::Quit);
+        }
+        if self.allow_close && self.pending.is_none() && self.frame_stats.is_none() {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
         }
 
         let mut commands = Vec::new();
@@ -334,6 +525,9 @@ impl ServoscopeApp {
         });
         egui::Panel::bottom("status_bar").show(ui, |ui| {
             status::status_bar(ui, &self.debugger);
+        });
+        egui::Panel::bottom("timeline").show(ui, |ui| {
+            timeline::show(ui, &self.debugger, &mut self.timeline, &mut commands);
         });
         // Panel sizes are remembered by egui's own memory, which eframe persists.
         egui::Panel::right("registers")
@@ -379,6 +573,9 @@ impl ServoscopeApp {
             code::show(ui, &self.debugger, &mut self.code, &mut commands);
         });
         self.files.windows(&ctx, &self.prefs, &mut commands);
+        if self.pending.is_some() {
+            unsaved_prompt(&ctx, self.pending.as_ref(), &mut commands);
+        }
 
         for c in commands {
             self.apply(&ctx, c);
@@ -395,6 +592,35 @@ impl ServoscopeApp {
             ctx.request_repaint();
         }
     }
+}
+
+/// "Unsaved changes": save the session first, discard the changes, or cancel.
+fn unsaved_prompt(ctx: &egui::Context, pending: Option<&Pending>, out: &mut Vec<Command>) {
+    let what = match pending {
+        Some(Pending::Open(path)) => format!("opening {}", path.display()),
+        Some(Pending::Example(_)) => "opening the example".to_string(),
+        Some(Pending::Quit) | None => "closing servoscope".to_string(),
+    };
+    egui::Window::new("Unsaved changes")
+        .collapsible(false)
+        .resizable(false)
+        .anchor(egui::Align2::CENTER_CENTER, [0.0, 0.0])
+        .show(ctx, |ui| {
+            ui.label(format!(
+                "This debugging session has changes that are not saved. They are lost by {what}."
+            ));
+            ui.horizontal(|ui| {
+                if ui.button("Save session").clicked() {
+                    out.push(Command::SaveSession);
+                }
+                if ui.button("Discard changes").clicked() {
+                    out.push(Command::DiscardAndContinue);
+                }
+                if ui.button("Cancel").clicked() {
+                    out.push(Command::CancelPending);
+                }
+            });
+        });
 }
 
 impl eframe::App for ServoscopeApp {

@@ -151,7 +151,8 @@ pub fn show(
     });
 
     let first = trace.first_tick().unwrap_or(0) as f64;
-    let follow_range = (first, (now as f64).max(first + 100.0));
+    let furthest = debugger.furthest_tick();
+    let follow_range = (first, (furthest as f64).max(first + 100.0));
     let link = ui.scope_id().with("plot_x_link");
     // Header and readout lines take about 50 px of the panel.
     let height = (height - 50.0).max(150.0);
@@ -264,16 +265,19 @@ pub fn show(
     }
     view.hovered_tick = hovered;
     if let Some(t) = clicked {
-        view.selected_tick = Some(t.min(now));
+        // Clicking the plot selects that tick and goes there.
+        let t = t.min(debugger.furthest_tick());
+        view.selected_tick = Some(t);
+        out.push(Command::GoToTick(t));
     }
     let text = view
         .hovered_tick
-        .and_then(|t| readout(trace, t.min(now), micros))
+        .and_then(|t| readout(trace, t.min(furthest), micros))
         .or_else(|| {
             view.selected_tick
                 .and_then(|t| readout(trace, t, micros))
                 .map(|r| format!("selected {r}"))
         })
-        .unwrap_or_else(|| "Hover the plot to read values; click to select a tick.".to_string());
+        .unwrap_or_else(|| "Hover the plot to read values; click to go to that tick.".to_string());
     ui.label(RichText::new(text).monospace().small());
 }

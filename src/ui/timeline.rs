@@ -1,0 +1,93 @@
+//! The timeline: a scrubber from tick 0 to the furthest tick reached, with breakpoint hits and
+//! faults marked on it, the step-back controls and a "go to tick" field.
+
+use egui::{RichText, Stroke, vec2};
+
+use super::Command;
+use super::theme::palette;
+use crate::debugger::Debugger;
+use crate::debugger::history::MarkKind;
+use crate::machine::Machine;
+
+#[derive(Default)]
+pub struct TimelineView {
+    pub goto_text: String,
+    pub goto_error: Option<String>,
+}
+
+pub fn show(
+    ui: &mut egui::Ui,
+    debugger: &Debugger,
+    view: &mut TimelineView,
+    out: &mut Vec<Command>,
+) {
+    let p = palette(ui.visuals().dark_mode);
+    let now = debugger.machine().ticks();
+    let furthest = debugger.furthest_tick();
+    ui.horizontal(|ui| {
+        let back_ok = now > 0 && !debugger.is_edited();
+        if ui
+            .add_enabled(back_ok, egui::Button::new("Reverse"))
+            .on_hover_text("Back to the previous breakpoint hit (Shift+F5)")
+            .clicked()
+        {
+            out.push(Command::ReverseContinue);
+        }
+        if ui
+            .add_enabled(back_ok, egui::Button::new("Step back"))
+            .on_hover_text("Undo the last command (Shift+F10)")
+            .clicked()
+        {
+            out.push(Command::StepBackCommand);
+        }
+        if ui
+            .add_enabled(back_ok, egui::Button::new("Tick back"))
+            .on_hover_text("Back one tick (Shift+F11)")
+            .clicked()
+        {
+            out.push(Command::StepBackTick);
+        }
+        let label = ui.label("Timeline");
+        let mut tick = now;
+        let width = (ui.available_width() - 230.0).max(120.0);
+        ui.spacing_mut().slider_width = width;
+        let slider = ui
+            .add_enabled(furthest > 0, egui::Slider::new(&mut tick, 0..=furthest.max(1)).show_value(false))
+            .labelled_by(label.id)
+            .on_hover_text(format!(
+                "Drag to any tick between 0 and {furthest}, the furthest reached. Marks: breakpoint hits (blue), faults (red)."
+            ));
+        if slider.changed() && tick != now {
+            out.push(Command::GoToTick(tick));
+        }
+        // Marks over the slider's rail.
+        let rail = slider.rect.shrink2(vec2(6.0, 0.0));
+        let x_of = |t: u64| rail.left() + rail.width() * t as f32 / furthest.max(1) as f32;
+        let painter = ui.painter();
+        for m in debugger.marks() {
+            let colour = match m.kind {
+                MarkKind::Breakpoint => p.mnemonic,
+                MarkKind::Fault => p.error,
+            };
+            let x = x_of(m.tick);
+            painter.line_segment([egui::pos2(x, rail.top()), egui::pos2(x, rail.bottom())], Stroke::new(2.0, colour));
+        }
+        ui.label(RichText::new(format!("{now} / {furthest}")).monospace().color(p.dim));
+        let goto_label = ui.label("Go to tick");
+        let edit = ui
+            .add(egui::TextEdit::singleline(&mut view.goto_text).desired_width(80.0))
+            .labelled_by(goto_label.id);
+        if edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)) {
+            match view.goto_text.trim().replace('_', "").parse::<u64>() {
+                Ok(t) => {
+                    view.goto_error = None;
+                    out.push(Command::GoToTick(t));
+                }
+                Err(_) => view.goto_error = Some(format!("'{}' is not a tick number", view.goto_text.trim())),
+            }
+        }
+        if let Some(e) = &view.goto_error {
+            ui.label(RichText::new(e).color(p.error));
+        }
+    });
+}
