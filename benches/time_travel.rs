@@ -90,7 +90,11 @@ fn benches(c: &mut Criterion) {
     d.goto_tick(TICKS);
     let path = std::env::temp_dir().join(format!("servoscope-bench-{}.ron", std::process::id()));
     group.bench_function("save", |b| {
-        b.iter(|| Session::capture(&d, None, ViewSettings::default()).save(&path).unwrap())
+        b.iter(|| {
+            Session::capture(&d, None, ViewSettings::default())
+                .save(&path)
+                .unwrap()
+        })
     });
     group.bench_function("load (replays 10M ticks)", |b| {
         b.iter(|| {

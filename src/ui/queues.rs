@@ -340,8 +340,8 @@ fn ring(ui: &mut egui::Ui, name: &str, h: &QueueHeader, access: Option<&QueueAcc
 }
 
 fn grid(ui: &mut egui::Ui, name: &str, h: &QueueHeader, access: Option<&QueueAccess>, p: &Palette) {
-    let per_row = 10;
     let cell = vec2(46.0, 30.0);
+    let per_row = ((ui.available_width() / cell.x).floor() as usize).clamp(4, 16);
     let gap = 14.0;
     let rows = h.size.div_ceil(per_row);
     let (rect, _) = ui.allocate_exact_size(
