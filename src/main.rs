@@ -21,7 +21,7 @@ use servoscope::session::Session;
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
-    /// A program (.qsl) to open in the debugger.
+    /// A program (.qsl) or a saved session (.ron) to open in the debugger.
     file: Option<PathBuf>,
     /// Measure frame times: run FILE unlimited for N frames, print median and worst, close.
     #[arg(long, value_name = "N", hide = true)]
@@ -33,7 +33,7 @@ enum Command {
     /// Run a program headless and report its final state (exit 0 ended, 1 faulted,
     /// 2 bad file or arguments, 3 tick limit).
     Run {
-        /// The program (.qsl).
+        /// The program (.qsl), or a saved session (.ron) to resume.
         file: PathBuf,
         /// Stop after this many ticks (120 µs each).
         #[arg(long, default_value_t = DEFAULT_MAX_TICKS)]
