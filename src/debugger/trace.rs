@@ -219,7 +219,7 @@ impl Trace {
         }
     }
 
-    /// Change points from `from` (inclusive), for export.
+    /// Every change point, oldest first (for export and comparisons).
     pub fn samples(&self) -> impl Iterator<Item = Sample> + '_ {
         (0..self.len()).map(|i| self.sample(i))
     }

@@ -150,6 +150,10 @@ fn bit_grid(
     let machine = debugger.machine();
     let info = machine.register_info(r);
     let value = machine.register(r);
+    if view.edit_text.is_empty() && view.edit_error.is_none() {
+        // Selected from a session or a fresh view: start the field at the current value.
+        view.edit_text = (value as i32).to_string();
+    }
     ui.horizontal(|ui| {
         ui.heading(&info.name);
         if let Some(alias) = info.alias {

@@ -46,22 +46,14 @@ pub fn explain(m: &SilverLode) -> Option<String> {
             reg1,
             data,
             ..
-        } => ext(m, op, res, reg1, &data.to_string(), last.outcome, last.vals),
+        } => ext(op, res, reg1, &data.to_string(), last.outcome, last.vals),
         Instr::Clx {
             op,
             res,
             reg1,
             reg2,
             ..
-        } => ext(
-            m,
-            op,
-            res,
-            reg1,
-            &format!("R{reg2}"),
-            last.outcome,
-            last.vals,
-        ),
+        } => ext(op, res, reg1, &format!("R{reg2}"), last.outcome, last.vals),
         Instr::Wrp { reg, value } => format!("R{reg} = {value} (was {v0})"),
         Instr::Jmp { target, cond: None } => format!("jump to {}", target_name(target)),
         Instr::Jmp {
@@ -238,21 +230,12 @@ fn clc(op: ClcOp, reg: u8, acc: i32, x: i32, res: i32, extra: i32) -> String {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
-fn ext(
-    m: &SilverLode,
-    op: ExtOp,
-    res: u8,
-    reg1: u8,
-    d_name: &str,
-    outcome: Outcome,
-    vals: [i32; 4],
-) -> String {
+fn ext(op: ExtOp, res: u8, reg1: u8, d_name: &str, outcome: Outcome, vals: [i32; 4]) -> String {
     let [a, d, v, extra] = vals;
     let r1 = format!("R{reg1}");
     let out = format!("R{res}");
     if op.is_queue() {
-        return queue(m, op, res, reg1, d_name, outcome, vals);
+        return queue(op, res, reg1, d_name, outcome, vals);
     }
     // (formula with names, formula with values, result text)
     let (sym, val, result) = match op {
@@ -388,7 +371,7 @@ fn ext(
             format!("{d} % {}", sx16(lo(a))),
             v.to_string(),
         ),
-        _ => unreachable_queue(),
+        _ => return queue(op, res, reg1, d_name, outcome, vals),
     };
     if sym == val {
         format!("{out} = {sym} = {result}")
@@ -397,20 +380,7 @@ fn ext(
     }
 }
 
-fn unreachable_queue() -> (String, String, String) {
-    // Queue ops are explained by `queue`; keep a harmless answer rather than panic.
-    (String::new(), String::new(), String::new())
-}
-
-fn queue(
-    m: &SilverLode,
-    op: ExtOp,
-    res: u8,
-    base: u8,
-    d_name: &str,
-    outcome: Outcome,
-    vals: [i32; 4],
-) -> String {
+fn queue(op: ExtOp, res: u8, base: u8, d_name: &str, outcome: Outcome, vals: [i32; 4]) -> String {
     let [h0, h1, d, value] = vals;
     let (size, len) = ((h0 as u32 >> 16) as usize, (h0 as u32 & 0xFFFF) as usize);
     let (head, tail) = ((h1 as u32 >> 16) as usize, (h1 as u32 & 0xFFFF) as usize);
@@ -421,7 +391,6 @@ fn queue(
     } else {
         d.to_string()
     };
-    let after = m.raw_queue(base as usize);
     let ok = outcome == Outcome::Done;
     match op {
         ExtOp::QInit => format!(
@@ -482,9 +451,6 @@ fn queue(
         ExtOp::QPushHead | ExtOp::QPushTail => {
             format!("push {data} on {q}: full ({len} of {size}); nothing changed, NEGATIVE set")
         }
-        _ => {
-            let _ = after;
-            format!("pop from {q}: empty; nothing changed, NEGATIVE set")
-        }
+        _ => format!("pop from {q}: empty; nothing changed, NEGATIVE set"),
     }
 }
