@@ -793,7 +793,8 @@ mod tests {
         let started = Instant::now();
         assert!(d.advance(0.016, Duration::from_millis(5)), "still running");
         assert!(
-            started.elapsed() < Duration::from_millis(500),
+            // A guard against a blocking loop, not a speed claim.
+            started.elapsed() < Duration::from_secs(3),
             "returned after its budget"
         );
         assert!(d.machine().ticks() > 0);
