@@ -32,53 +32,29 @@ pub fn shortcuts(
     out: &mut Vec<Command>,
 ) {
     let target = code.target_line(debugger);
+    // Most specific first: egui ignores an extra Shift when matching the plain keys.
+    // A command needing the cursor's line is skipped (its key still consumed) without one.
+    let table: [(&KeyboardShortcut, Option<Command>); 14] = [
+        (&RESET, Some(Command::Reset)),
+        (&REVERSE, Some(Command::ReverseContinue)),
+        (&STEP_BACK, Some(Command::StepBackCommand)),
+        (&TICK_BACK, Some(Command::StepBackTick)),
+        (&SAVE_AS, Some(Command::SaveSessionDialog)),
+        (&SAVE, Some(Command::SaveSession)),
+        (&RUN_TO_CURSOR, target.map(Command::RunToLine)),
+        (&ASSEMBLE, Some(Command::Assemble)),
+        (&OPEN, Some(Command::OpenDialog)),
+        (&RUN, Some(Command::Run)),
+        (&PAUSE, Some(Command::Pause)),
+        (&STEP, Some(Command::StepCommand)),
+        (&STEP_TICK, Some(Command::StepTick)),
+        (&TOGGLE_BREAKPOINT, target.map(Command::ToggleBreakpoint)),
+    ];
     ctx.input_mut(|i| {
-        if i.consume_shortcut(&RESET) {
-            out.push(Command::Reset);
-        }
-        // Shifted keys first: egui ignores an extra Shift when matching the plain ones.
-        if i.consume_shortcut(&REVERSE) {
-            out.push(Command::ReverseContinue);
-        }
-        if i.consume_shortcut(&STEP_BACK) {
-            out.push(Command::StepBackCommand);
-        }
-        if i.consume_shortcut(&TICK_BACK) {
-            out.push(Command::StepBackTick);
-        }
-        if i.consume_shortcut(&SAVE_AS) {
-            out.push(Command::SaveSessionDialog);
-        }
-        if i.consume_shortcut(&SAVE) {
-            out.push(Command::SaveSession);
-        }
-        if i.consume_shortcut(&RUN_TO_CURSOR)
-            && let Some(line) = target
-        {
-            out.push(Command::RunToLine(line));
-        }
-        if i.consume_shortcut(&ASSEMBLE) {
-            out.push(Command::Assemble);
-        }
-        if i.consume_shortcut(&OPEN) {
-            out.push(Command::OpenDialog);
-        }
-        if i.consume_shortcut(&RUN) {
-            out.push(Command::Run);
-        }
-        if i.consume_shortcut(&PAUSE) {
-            out.push(Command::Pause);
-        }
-        if i.consume_shortcut(&STEP) {
-            out.push(Command::StepCommand);
-        }
-        if i.consume_shortcut(&STEP_TICK) {
-            out.push(Command::StepTick);
-        }
-        if i.consume_shortcut(&TOGGLE_BREAKPOINT)
-            && let Some(line) = target
-        {
-            out.push(Command::ToggleBreakpoint(line));
+        for (shortcut, command) in table {
+            if i.consume_shortcut(shortcut) {
+                out.extend(command);
+            }
         }
     });
 }
