@@ -563,3 +563,50 @@ fn sessions_save_with_ctrl_s_and_reopen() {
     h.get_by_label_contains("not a readable session file");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn the_servo_model_is_settable_and_saved_with_the_session() {
+    let mut h = harness(app_with("WRP 0, 1000\nDLY 3000\nEND"));
+    h.state_mut().apply(
+        &egui::Context::default(),
+        servoscope::ui::Command::OpenServoSettings,
+    );
+    h.run_steps(2);
+    h.get_by_label("Natural frequency (Hz)");
+    h.get_by_label("Damping ratio");
+    if let Some(draft) = h.state_mut().servo.draft.as_mut() {
+        draft.natural_frequency_hz = 80.0;
+        draft.holding_error_limit = 50;
+    }
+    h.run_steps(1);
+    h.get_by_label("Apply").click();
+    h.run_steps(2);
+    let settings = h.state().debugger.settings();
+    assert_eq!(
+        (settings.natural_frequency_hz, settings.holding_error_limit),
+        (80.0, 50)
+    );
+    assert_eq!(
+        h.state().debugger.machine().settings(),
+        settings,
+        "the machine uses them"
+    );
+    assert_eq!(
+        h.state().session().servo,
+        settings,
+        "a saved session keeps them"
+    );
+    // A stiffer loop follows a step faster: after 100 ticks it is closer to the target.
+    h.state_mut().debugger.goto_tick(100);
+    h.run_steps(3);
+    let stiff = h.state().debugger.machine().reg(1);
+    let mut soft = servoscope::runner::load("WRP 0, 1000\nDLY 3000\nEND").unwrap();
+    for _ in 0..100 {
+        soft.step_tick();
+    }
+    assert!(
+        stiff > soft.reg(1),
+        "80 Hz: {stiff}, 25 Hz: {}",
+        soft.reg(1)
+    );
+}

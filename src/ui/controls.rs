@@ -131,6 +131,9 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
             }
         });
         ui.menu_button("View", |ui| {
+            if ui.button("Servo model…").clicked() {
+                out.push(Command::OpenServoSettings);
+            }
             if ui.radio(app.prefs.dark, "Dark theme").clicked() {
                 out.push(Command::SetDark(true));
             }

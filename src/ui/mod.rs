@@ -8,6 +8,7 @@ pub mod files;
 pub mod plot;
 pub mod queues;
 pub mod registers;
+pub mod servo;
 pub mod status;
 pub mod theme;
 pub mod timeline;
@@ -95,6 +96,8 @@ pub enum Command {
     ExportCsv(PathBuf),
     LoadExample(usize),
     SetDark(bool),
+    OpenServoSettings,
+    SetServo(crate::machine::silverlode::ServoSettings),
 }
 
 /// Preferences kept between runs by eframe's storage (never the program state).
@@ -194,6 +197,7 @@ pub struct ServoscopeApp {
     pub registers: registers::RegisterView,
     pub plot: plot::PlotView,
     pub timeline: timeline::TimelineView,
+    pub servo: servo::ServoView,
     pub files: files::Files,
     /// An action waiting for "discard unsaved changes?".
     pub pending: Option<Pending>,
@@ -225,6 +229,7 @@ impl ServoscopeApp {
             registers,
             plot: plot::PlotView::default(),
             timeline: timeline::TimelineView::default(),
+            servo: servo::ServoView::default(),
             files: files::Files::default(),
             pending: None,
             allow_close: false,
@@ -474,6 +479,11 @@ impl ServoscopeApp {
             }
             Command::CancelPending => self.pending = None,
             Command::SetDark(dark) => self.prefs.dark = dark,
+            Command::OpenServoSettings => self.servo.open = true,
+            Command::SetServo(settings) => {
+                self.debugger.set_settings(settings);
+                self.servo.draft = None;
+            }
         }
     }
 
@@ -573,6 +583,7 @@ impl ServoscopeApp {
             code::show(ui, &self.debugger, &mut self.code, &mut commands);
         });
         self.files.windows(&ctx, &self.prefs, &mut commands);
+        servo::window(&ctx, &self.debugger, &mut self.servo, &mut commands);
         if self.pending.is_some() {
             unsaved_prompt(&ctx, self.pending.as_ref(), &mut commands);
         }
