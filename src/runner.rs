@@ -119,17 +119,6 @@ pub fn session_of_run(
     }
 }
 
-/// The input levels at `tick` given the toggles (inputs start low).
-pub fn inputs_at(toggles: &[InputToggle], tick: u64) -> [bool; 3] {
-    let mut levels = [false; 3];
-    for t in toggles.iter().filter(|t| t.tick <= tick) {
-        if let Some(l) = levels.get_mut(t.input) {
-            *l = !*l;
-        }
-    }
-    levels
-}
-
 /// The final report, in the JSON shape of spec §8.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Report {

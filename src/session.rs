@@ -26,6 +26,9 @@ use crate::machine::silverlode::ServoSettings;
 /// The session format this build writes. Version 1 is the first.
 pub const FORMAT_VERSION: u32 = 1;
 pub const DIALECT: &str = "silverlode";
+/// The furthest tick a session may ask to replay to: 10^9 ticks (33 hours of servo time,
+/// seconds to a minute of replay). Beyond it a damaged or hostile file could freeze the window.
+pub const MAX_REPLAY_TICKS: u64 = 1_000_000_000;
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
@@ -115,6 +118,8 @@ pub enum SessionError {
         first: String,
         count: usize,
     },
+    #[error("{path} asks to replay {ticks} ticks; servoscope replays at most {MAX_REPLAY_TICKS}")]
+    TooLong { path: String, ticks: u64 },
     #[error("cannot encode the session: {0}")]
     Encode(String),
 }
@@ -215,6 +220,12 @@ impl Session {
     /// Rebuild the debugger: replay to the furthest tick, then go back to the saved one.
     pub fn restore(&self, path: &str) -> Result<Debugger, SessionError> {
         let furthest = self.furthest.max(self.tick);
+        if furthest > MAX_REPLAY_TICKS {
+            return Err(SessionError::TooLong {
+                path: path.to_string(),
+                ticks: furthest,
+            });
+        }
         let mut debugger = Debugger::restore(
             self.program_name.clone(),
             self.program.clone(),
@@ -262,6 +273,16 @@ mod tests {
             other => panic!("{other:?}"),
         }
         assert!(Session::from_ron("not ron at all {", "s.ron").is_err());
+    }
+
+    #[test]
+    fn an_absurd_tick_is_refused_instead_of_replayed_forever() {
+        let text = "(format: 1, dialect: \"silverlode\", program: \"l: JMP l\", tick: 18446744073709551615)";
+        let s = Session::from_ron(text, "huge.ron").expect("parses");
+        assert!(matches!(
+            s.restore("huge.ron"),
+            Err(SessionError::TooLong { .. })
+        ));
     }
 
     #[test]

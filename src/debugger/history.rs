@@ -103,10 +103,6 @@ impl Timeline {
     pub fn marks(&self) -> &[Mark] {
         &self.marks
     }
-    pub fn checkpoint_count(&self) -> usize {
-        self.checkpoints.len()
-    }
-
     /// Bytes held by checkpoints, events and the trace.
     pub fn memory_bytes(&self) -> usize {
         let checkpoint = std::mem::size_of::<SilverLode>() + 256;

@@ -186,9 +186,6 @@ impl Debugger {
     pub fn name(&self) -> &str {
         &self.name
     }
-    pub fn set_name(&mut self, name: impl Into<String>) {
-        self.name = name.into();
-    }
     pub fn source(&self) -> &str {
         &self.source
     }

@@ -74,7 +74,10 @@ pub fn explain(m: &SilverLode) -> Option<String> {
             v0 + 1
         ),
         Instr::Ret => {
-            let back = m.s.stack.get(v0 as usize - 1).copied().unwrap_or(0);
+            let back = (v0 as usize)
+                .checked_sub(1)
+                .and_then(|i| m.s.stack.get(i).copied())
+                .unwrap_or(0);
             format!(
                 "return to {}; stack depth {} → {}",
                 target_name(back),

@@ -386,15 +386,6 @@ impl SilverLode {
     pub fn pc(&self) -> u32 {
         self.s.pc
     }
-    pub fn fault_record(&self) -> Option<&Fault> {
-        self.s.fault.as_ref()
-    }
-
-    /// Queues as the runner prints them: every base that was initialised, decoded now.
-    pub fn raw_queue(&self, base: usize) -> Option<RawQueue> {
-        RawQueue::decode(&self.s.regs, base)
-    }
-
     // ---- execution -------------------------------------------------------------------------
 
     fn end_if_past_last_line(&mut self) {

@@ -236,9 +236,4 @@ impl Program {
             .find(|(_, at)| *at == index)
             .map(|(name, _)| name.as_str())
     }
-
-    /// The command index that starts on `line` (1-based), if any.
-    pub fn index_of_line(&self, line: usize) -> Option<usize> {
-        self.lines.iter().position(|&l| l as usize == line)
-    }
 }
