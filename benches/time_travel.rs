@@ -12,7 +12,9 @@ use std::time::{Duration, Instant};
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use servoscope::debugger::{Debugger, Speed};
-use servoscope::machine::Machine;
+
+use servoscope::machine::silverlode::SilverLode;
+use servoscope::machine::silverlode::view::io;
 use servoscope::session::{Session, ViewSettings};
 
 const TICKS: u64 = 10_000_000;
@@ -29,7 +31,7 @@ loop: MRV 3000, 38650, 16106128
 fn history() -> Debugger {
     let mut d = Debugger::new("bench.qsl", PROGRAM);
     d.set_speed(Speed::Unlimited);
-    d.set_input(0, true);
+    d.set_input(io(0), true).expect("an input");
     d.goto_tick(TICKS);
     while d.advance(0.016, Duration::from_secs(60)) {}
     assert_eq!(d.machine().ticks(), TICKS);
@@ -56,7 +58,7 @@ fn benches(c: &mut Criterion) {
         b.iter(|| {
             i += 1;
             d.goto_tick(tick_for(i));
-            black_box(d.machine().reg(1))
+            black_box(d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(1))
         })
     });
     group.bench_function("step back one tick", |b| {

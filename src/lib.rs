@@ -2,11 +2,15 @@
 //!
 //! Layers, each usable without the ones above it:
 //! - [`machine`]: the interpreter core, one module per dialect, no I/O.
-//! - [`runner`]: the headless runner of spec §8 (`servoscope run`).
+//! - [`debugger`]: run control, time travel and traces over any machine.
+//! - [`session`]: saved debug sessions.
+//! - [`runner`]: the headless runner (`servoscope run`).
+//! - `ui` (feature `gui`, on by default): the egui window.
 
 pub mod atomic;
 pub mod debugger;
 pub mod machine;
 pub mod runner;
 pub mod session;
+#[cfg(feature = "gui")]
 pub mod ui;

@@ -5,11 +5,9 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use std::sync::Arc;
-
-use servoscope::machine::silverlode::{ServoSettings, SilverLode, assemble};
-use servoscope::runner::{self, DEFAULT_MAX_TICKS, Report};
-use servoscope::session::Session;
+use servoscope::machine::registry::{self, Dialect, Settings};
+use servoscope::runner::{self, Report};
+use servoscope::session::{Session, is_session_path};
 
 #[derive(Parser)]
 #[command(
@@ -21,8 +19,11 @@ use servoscope::session::Session;
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
-    /// A program (.qsl) or a saved session (.ron) to open in the debugger.
+    /// A program (dialect by extension, e.g. .qsl) or a saved session (.ron) to open.
     file: Option<PathBuf>,
+    /// The program's dialect when its extension does not say it.
+    #[arg(long, value_name = "NAME")]
+    dialect: Option<String>,
     /// Measure frame times: run FILE unlimited for N frames, print median and worst, close.
     #[arg(long, value_name = "N", hide = true)]
     frame_stats: Option<usize>,
@@ -33,14 +34,20 @@ enum Command {
     /// Run a program headless and report its final state (exit 0 ended, 1 faulted,
     /// 2 bad file or arguments, 3 tick limit).
     Run {
-        /// The program (.qsl), or a saved session (.ron) to resume.
+        /// The program (dialect by extension, e.g. .qsl), or a saved session (.ron) to resume.
         file: PathBuf,
-        /// Stop after this many ticks (120 µs each).
-        #[arg(long, default_value_t = DEFAULT_MAX_TICKS)]
-        max_ticks: u64,
+        /// The program's dialect when its extension does not say it.
+        #[arg(long, value_name = "NAME")]
+        dialect: Option<String>,
+        /// Stop before this tick (scans for a PLC); the dialect's default when not given.
+        #[arg(long)]
+        max_ticks: Option<u64>,
         /// Toggle an input at the listed ticks, e.g. IO1=100,250 (inputs start low). Repeatable.
-        #[arg(long = "input", value_name = "IOk=T1,T2,...")]
+        #[arg(long = "input", value_name = "NAME=T1,T2,...")]
         inputs: Vec<String>,
+        /// Give a location an initial value before the first tick, e.g. R26=-5. Repeatable.
+        #[arg(long = "set", value_name = "NAME=VALUE")]
+        sets: Vec<String>,
         /// Print exactly one JSON object on stdout.
         #[arg(long)]
         json: bool,
@@ -55,122 +62,173 @@ fn main() -> ExitCode {
     match cli.command {
         Some(Command::Run {
             file,
+            dialect,
             max_ticks,
             inputs,
+            sets,
             json,
             save_session,
-        }) => ExitCode::from(run(
-            &file,
-            max_ticks,
-            &inputs,
-            json,
-            save_session.as_deref(),
-        )),
-        None => match servoscope::ui::run_gui(cli.file, cli.frame_stats) {
-            Ok(()) => ExitCode::SUCCESS,
-            Err(e) => {
-                eprintln!("servoscope: cannot open the window: {e}");
-                eprintln!("(no display? `servoscope run FILE` works without one)");
-                ExitCode::from(2)
-            }
-        },
+        }) => ExitCode::from(
+            match run(
+                &file,
+                dialect.as_deref(),
+                max_ticks,
+                &inputs,
+                &sets,
+                json,
+                save_session.as_deref(),
+            ) {
+                Ok(code) => code,
+                Err(message) => {
+                    eprintln!("servoscope: {message}");
+                    2
+                }
+            },
+        ),
+        None => open_window(cli.file, cli.dialect, cli.frame_stats),
     }
 }
 
-/// A `.ron` file is a saved session; anything else a program.
-fn is_session(file: &Path) -> bool {
-    file.extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("ron"))
-}
-
-fn run(file: &Path, max_ticks: u64, inputs: &[String], json: bool, save: Option<&Path>) -> u8 {
-    let mut toggles = Vec::new();
-    for spec in inputs {
-        match runner::parse_input_spec(spec) {
-            Ok(t) => toggles.extend(t),
-            Err(e) => {
-                eprintln!("servoscope: {e}");
-                return 2;
-            }
+#[cfg(feature = "gui")]
+fn open_window(file: Option<PathBuf>, dialect: Option<String>, frame_stats: Option<usize>) -> ExitCode {
+    if let Some(name) = &dialect
+        && registry::by_name(name).is_none()
+    {
+        eprintln!("servoscope: {}", registry::ChooseError::UnknownName(name.clone()));
+        return ExitCode::from(2);
+    }
+    match servoscope::ui::run_gui(file, dialect, frame_stats) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("servoscope: cannot open the window: {e}");
+            eprintln!("(no display? `servoscope run FILE` works without one)");
+            ExitCode::from(2)
         }
     }
+}
+
+#[cfg(not(feature = "gui"))]
+fn open_window(_: Option<PathBuf>, _: Option<String>, _: Option<usize>) -> ExitCode {
+    eprintln!("servoscope: this build has no window (built without the `gui` feature); use `servoscope run FILE`");
+    ExitCode::from(2)
+}
+
+/// What a run starts from: the program, its dialect and settings, and the recorded events.
+struct Start {
+    dialect: &'static Dialect,
+    name: String,
+    path: Option<PathBuf>,
+    source: String,
+    settings: Settings,
+    /// Session events by name (resolved once the program is assembled).
+    session: Option<Session>,
+}
+
+fn read_start(file: &Path, dialect: Option<&str>) -> Result<Start, String> {
     let name = file.display().to_string();
-    let (program_name, program_path, source, events, settings) = if is_session(file) {
-        if !toggles.is_empty() {
-            eprintln!(
-                "servoscope: --input cannot be combined with a session (its inputs are in it)"
-            );
-            return 2;
+    if is_session_path(file) {
+        let session = Session::load(file).map_err(|e| e.to_string())?;
+        if let Some(d) = dialect
+            && registry::by_name(d) != Some(session.dialect())
+        {
+            return Err(format!(
+                "--dialect {d} does not match the session's dialect '{}'",
+                session.dialect
+            ));
         }
-        let session = match Session::load(file) {
-            Ok(s) => s,
-            Err(e) => {
-                eprintln!("servoscope: {e}");
-                return 2;
-            }
-        };
-        (
-            session.program_name,
-            session.program_path,
-            session.program,
-            session.events,
-            session.servo,
-        )
-    } else {
-        match std::fs::read_to_string(file) {
-            Ok(text) => {
-                let short = file
-                    .file_name()
-                    .map_or(name.clone(), |n| n.to_string_lossy().into_owned());
-                (
-                    short,
-                    Some(file.to_path_buf()),
-                    text,
-                    runner::toggles_to_events(&toggles),
-                    ServoSettings::default(),
-                )
-            }
-            Err(e) => {
-                eprintln!("servoscope: cannot read {name}: {e}");
-                return 2;
-            }
-        }
-    };
-    let program = match assemble(&source) {
-        Ok(p) => p,
+        return Ok(Start {
+            dialect: session.dialect(),
+            name: session.program_name.clone(),
+            path: session.program_path.clone(),
+            source: session.program.clone(),
+            settings: session.settings.clone(),
+            session: Some(session),
+        });
+    }
+    let dialect = registry::choose(file, dialect).map_err(|e| e.to_string())?;
+    let source =
+        std::fs::read_to_string(file).map_err(|e| format!("cannot read {name}: {e}"))?;
+    let short = file
+        .file_name()
+        .map_or(name.clone(), |n| n.to_string_lossy().into_owned());
+    Ok(Start {
+        dialect,
+        name: short,
+        path: Some(file.to_path_buf()),
+        source,
+        settings: dialect.default_settings(),
+        session: None,
+    })
+}
+
+fn run(
+    file: &Path,
+    dialect: Option<&str>,
+    max_ticks: Option<u64>,
+    inputs: &[String],
+    sets: &[String],
+    json: bool,
+    save: Option<&Path>,
+) -> Result<u8, String> {
+    let start = read_start(file, dialect)?;
+    let name = file.display().to_string();
+    if start.session.is_some() && !(inputs.is_empty() && sets.is_empty()) {
+        return Err(
+            "--input and --set cannot be combined with a session (its edits are in it)".to_string(),
+        );
+    }
+    let settings = start.dialect.settings_from(&start.settings);
+    let engine = match (start.dialect.open)(&start.source, &settings) {
+        Ok(engine) => engine,
         Err(diagnostics) => {
             for d in &diagnostics {
                 eprintln!("{}", d.with_file(&name));
             }
-            eprintln!(
-                "servoscope: {name}: {} error(s), nothing run",
-                diagnostics.len()
-            );
-            return 2;
+            return Err(format!("{name}: {} error(s), nothing run", diagnostics.len()));
         }
     };
-    let mut machine = SilverLode::with_settings(Arc::new(program), settings);
-    // A session resumes at its saved tick; the events decide everything, so running on from
-    // tick 0 with them gives exactly the straight run's result.
-    runner::run_events(&mut machine, &events, max_ticks);
-    let report = Report::of(&machine);
+    let m = engine.machine();
+    let events = match &start.session {
+        // A session resumes at its saved tick; the events decide everything, so running on
+        // from the start with them gives exactly the straight run's result.
+        Some(session) => session
+            .user_events(m, &name)
+            .map_err(|e| e.to_string())?,
+        None => {
+            let mut events = Vec::new();
+            for spec in sets {
+                events.push(runner::parse_set_spec(m, spec).map_err(|e| e.to_string())?);
+            }
+            let mut toggles = Vec::new();
+            for spec in inputs {
+                toggles.extend(runner::parse_input_spec(m, spec).map_err(|e| e.to_string())?);
+            }
+            events.extend(runner::toggles_to_events(&toggles));
+            events
+        }
+    };
+    let max_ticks = max_ticks.unwrap_or(start.dialect.default_max_ticks);
+    let done = runner::run_engine(engine.as_ref(), &events, max_ticks);
+    let report = Report {
+        dialect: start.dialect,
+        machine: done.machine(),
+    };
     if let Some(out) = save {
         let session = runner::session_of_run(
-            &program_name,
-            program_path.as_deref(),
-            &source,
-            &machine,
-            events,
+            start.dialect,
+            &start.name,
+            start.path.as_deref(),
+            &start.source,
+            &settings,
+            done.machine(),
+            &events,
         );
-        if let Err(e) = session.save(out) {
-            eprintln!("servoscope: {e}");
-            return 2;
-        }
+        session.save(out).map_err(|e| e.to_string())?;
     }
     if json {
         println!("{}", report.to_json());
     } else {
         print!("{}", report.to_text());
     }
-    report.exit_code() as u8
+    Ok(report.exit_code())
 }

@@ -1,250 +1,257 @@
-//! The headless runner of spec §8: run a program to its end, a fault or a tick limit, with an
-//! input timeline, and report the final state as text or as one JSON object.
+//! The headless runner (`servoscope run`): run a program of any dialect to its end, a fault or
+//! a tick limit, with an input timeline and initial values, and report the final state as text
+//! or as one JSON object: a common header (`dialect`, `status`, `ticks`, `steps`, `fault`)
+//! followed by the fields the dialect's spec defines.
 
 use std::fmt::Write as _;
-use std::sync::Arc;
+use std::path::Path;
 
-use serde::Serialize;
-use serde::ser::{SerializeMap, Serializer};
+use crate::debugger::history::{self, Change, UserEvent};
+use crate::debugger::Engine;
+use crate::machine::registry::{AtLimit, Dialect, Settings};
+use crate::machine::{Loc, Machine, MachineView, Pos, RunState, SpaceKind, value};
+use crate::session::{FORMAT_VERSION, Session, named_events};
 
-use crate::debugger::history::{Edit, UserEvent};
-use crate::machine::silverlode::{SilverLode, assemble};
-use crate::machine::{Diagnostic, FaultInfo, Machine, RunState};
-use crate::session::{DIALECT, FORMAT_VERSION, Session};
-
-pub const DEFAULT_MAX_TICKS: u64 = 10_000_000;
-
-/// An input toggle: input `index` (0-based) flips when the tick counter equals `tick`.
-#[derive(
-    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, serde::Serialize, serde::Deserialize,
-)]
+/// An input toggle: `input` flips when the tick counter equals `tick`, before that tick runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub struct InputToggle {
     pub tick: u64,
-    pub input: usize,
+    pub input: Loc,
 }
 
-/// Parse `IOk=T1,T2,...` (k in 1..=3) into toggles.
-pub fn parse_input_spec(spec: &str) -> Result<Vec<InputToggle>, String> {
-    let (name, ticks) = spec
-        .split_once('=')
-        .ok_or_else(|| format!("--input '{spec}': expected IOk=T1,T2,..."))?;
-    let input = match name.trim().to_ascii_uppercase().as_str() {
-        "IO1" => 0,
-        "IO2" => 1,
-        "IO3" => 2,
-        other => {
-            return Err(format!(
-                "--input '{spec}': unknown input '{other}' (IO1, IO2 or IO3)"
-            ));
-        }
-    };
+/// Why the arguments cannot be used.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum ArgError {
+    #[error("--input '{spec}': expected NAME=T1,T2,... with an input name such as {example}")]
+    InputShape { spec: String, example: String },
+    #[error("--input '{spec}': '{name}' is not an input of this {dialect} program (inputs: {inputs})")]
+    NotAnInput {
+        spec: String,
+        name: String,
+        dialect: &'static str,
+        inputs: String,
+    },
+    #[error("--input '{spec}': '{tick}' is not a tick number")]
+    BadTick { spec: String, tick: String },
+    #[error("--set '{spec}': expected NAME=VALUE, e.g. R26=-5")]
+    SetShape { spec: String },
+    #[error("--set '{spec}': there is no location '{name}' in this {dialect} program")]
+    UnknownLocation {
+        spec: String,
+        name: String,
+        dialect: &'static str,
+    },
+    #[error("--set '{spec}': {message}")]
+    BadValue { spec: String, message: String },
+}
+
+/// The names of a machine's inputs, shortened for messages.
+fn input_names(m: &dyn MachineView) -> Vec<String> {
+    m.spaces()
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.kind == SpaceKind::Inputs)
+        .flat_map(|(i, s)| (0..s.len.min(4)).map(move |index| Loc::new(i as u8, index)))
+        .filter_map(|loc| m.info(loc).map(|info| info.name))
+        .collect()
+}
+
+fn is_input(m: &dyn MachineView, loc: Loc) -> bool {
+    m.spaces()
+        .get(usize::from(loc.space))
+        .is_some_and(|s| s.kind == SpaceKind::Inputs)
+}
+
+/// Parse `NAME=T1,T2,...` into toggles of that input of `m`.
+pub fn parse_input_spec(m: &dyn MachineView, spec: &str) -> Result<Vec<InputToggle>, ArgError> {
+    let names = input_names(m);
+    let (name, ticks) = spec.split_once('=').ok_or_else(|| ArgError::InputShape {
+        spec: spec.to_string(),
+        example: names.first().cloned().unwrap_or_default(),
+    })?;
+    let input = m
+        .find(name)
+        .filter(|&loc| is_input(m, loc))
+        .ok_or_else(|| ArgError::NotAnInput {
+            spec: spec.to_string(),
+            name: name.trim().to_string(),
+            dialect: m.dialect(),
+            inputs: format!("{}, ...", names.join(", ")),
+        })?;
     ticks
         .split(',')
         .map(|t| {
             let t = t.trim().replace('_', "");
             t.parse::<u64>()
                 .map(|tick| InputToggle { tick, input })
-                .map_err(|_| format!("--input '{spec}': '{t}' is not a tick number"))
+                .map_err(|_| ArgError::BadTick {
+                    spec: spec.to_string(),
+                    tick: t.clone(),
+                })
         })
         .collect()
+}
+
+/// Parse `NAME=VALUE` into an edit of that location at the start.
+pub fn parse_set_spec(m: &dyn MachineView, spec: &str) -> Result<UserEvent, ArgError> {
+    let (name, text) = spec.split_once('=').ok_or_else(|| ArgError::SetShape {
+        spec: spec.to_string(),
+    })?;
+    let loc = m.find(name).ok_or_else(|| ArgError::UnknownLocation {
+        spec: spec.to_string(),
+        name: name.trim().to_string(),
+        dialect: m.dialect(),
+    })?;
+    let width = m.info(loc).map_or(64, |i| i.width);
+    let v = value::parse_value(text, width).map_err(|message| ArgError::BadValue {
+        spec: spec.to_string(),
+        message,
+    })?;
+    Ok(UserEvent {
+        at: Pos::default(),
+        loc,
+        change: Change::Set(v),
+    })
 }
 
 /// Input toggles as timeline events that set each input's level (inputs start low).
 pub fn toggles_to_events(toggles: &[InputToggle]) -> Vec<UserEvent> {
     let mut toggles = toggles.to_vec();
     toggles.sort();
-    let mut levels = [false; 3];
+    let mut levels: std::collections::HashMap<Loc, bool> = Default::default();
     toggles
         .iter()
-        .filter(|t| t.input < 3)
         .map(|t| {
-            levels[t.input] = !levels[t.input];
+            let level = levels.entry(t.input).or_insert(false);
+            *level = !*level;
             UserEvent {
-                tick: t.tick,
-                edit: Edit::Input {
-                    input: t.input,
-                    high: levels[t.input],
-                },
+                at: Pos::at_tick(t.tick),
+                loc: t.input,
+                change: Change::Set(u64::from(*level)),
             }
         })
         .collect()
 }
 
-/// Run `machine` until it stops or reaches `max_ticks`, applying each event when the tick
-/// counter equals its tick (before that tick runs). Events before the current tick count as
-/// already applied. The same rule as the debugger's timeline, so a run and a session agree.
-pub fn run_events(machine: &mut SilverLode, events: &[UserEvent], max_ticks: u64) {
+/// Run `machine` until it stops or reaches `max_ticks`, applying each event when the machine
+/// reaches its position; events before the current position count as already applied. This is
+/// the timeline's own replay, so a run and a session agree.
+pub fn run_events<M: Machine>(machine: &mut M, events: &[UserEvent], max_ticks: u64) {
     let mut events = events.to_vec();
-    events.sort_by_key(|e| e.tick);
-    let mut next = events.partition_point(|e| e.tick < machine.ticks());
-    loop {
-        while let Some(e) = events.get(next).filter(|e| e.tick <= machine.ticks()) {
-            e.edit.apply(machine);
-            next += 1;
-        }
-        let until = events
-            .get(next)
-            .map_or(max_ticks, |e| e.tick.min(max_ticks));
-        machine.run_until(until, |_| false);
-        if !machine.run_state().is_live() || machine.ticks() >= max_ticks {
-            return;
-        }
-    }
+    events.sort_by_key(|e| e.at);
+    let mut next = events.partition_point(|e| e.at < machine.pos());
+    history::replay(
+        machine,
+        &events,
+        &mut next,
+        Pos::at_tick(max_ticks),
+        |_| false,
+        |_, _| {},
+    );
 }
 
 /// Run `machine` until it stops or reaches `max_ticks`, toggling inputs on the way.
-pub fn run_with_inputs(machine: &mut SilverLode, toggles: &[InputToggle], max_ticks: u64) {
+pub fn run_with_inputs<M: Machine>(machine: &mut M, toggles: &[InputToggle], max_ticks: u64) {
     run_events(machine, &toggles_to_events(toggles), max_ticks);
 }
 
-/// A session that reproduces a headless run: the program, its events, the tick it stopped at.
+/// A session that reproduces a headless run: the program, its events, the position it
+/// stopped at.
 pub fn session_of_run(
+    dialect: &Dialect,
     name: &str,
-    path: Option<&std::path::Path>,
+    path: Option<&Path>,
     source: &str,
-    machine: &SilverLode,
-    events: Vec<UserEvent>,
+    settings: &Settings,
+    machine: &dyn MachineView,
+    events: &[UserEvent],
 ) -> Session {
     Session {
         format: FORMAT_VERSION,
-        dialect: DIALECT.to_string(),
+        dialect: dialect.name.to_string(),
         program_name: name.to_string(),
-        program_path: path.map(std::path::Path::to_path_buf),
+        program_path: path.map(Path::to_path_buf),
         program: source.to_string(),
-        servo: machine.settings(),
-        events,
-        tick: machine.ticks(),
-        furthest: machine.ticks(),
+        settings: settings.clone(),
+        events: named_events(machine, events),
+        at: machine.pos(),
+        furthest: machine.pos(),
         ..Session::default()
     }
 }
 
-/// The final report, in the JSON shape of spec §8.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Report {
-    pub dialect: &'static str,
-    pub status: &'static str,
-    pub ticks: u64,
-    pub steps: u64,
-    pub fault: Option<FaultInfo>,
-    #[serde(serialize_with = "registers_in_order")]
-    pub registers: Vec<i32>,
-    pub isw: u16,
-    pub psw: u16,
-    pub queues: Vec<QueueReport>,
+/// The final state of a run, as the runner prints it.
+pub struct Report<'a> {
+    pub dialect: &'a Dialect,
+    pub machine: &'a dyn MachineView,
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct QueueReport {
-    pub base: usize,
-    pub size: usize,
-    pub len: usize,
-    pub head: usize,
-    pub tail: usize,
-    /// From the tail (oldest) to the head (newest).
-    pub items: Vec<i32>,
-}
-
-fn registers_in_order<S: Serializer>(regs: &[i32], s: S) -> Result<S::Ok, S::Error> {
-    let mut map = s.serialize_map(Some(regs.len()))?;
-    for (i, v) in regs.iter().enumerate() {
-        map.serialize_entry(&i.to_string(), v)?;
-    }
-    map.end()
-}
-
-impl Report {
-    pub fn of(m: &SilverLode) -> Report {
-        let status = match m.run_state() {
+impl Report<'_> {
+    pub fn status(&self) -> &'static str {
+        match self.machine.run_state() {
             RunState::Ended => "ended",
             RunState::Faulted => "faulted",
-            _ => "limit",
-        };
-        Report {
-            dialect: m.dialect(),
-            status,
-            ticks: m.ticks(),
-            steps: m.steps(),
-            fault: m.fault(),
-            registers: m.regs().to_vec(),
-            isw: m.isw(),
-            psw: m.psw(),
-            queues: m
-                .queues()
-                .into_iter()
-                .filter_map(|q| {
-                    // A header the program overwrote is not a queue any more; the runner lists
-                    // only queues it can decode.
-                    let h = q.header?;
-                    Some(QueueReport {
-                        base: q.base,
-                        size: h.size,
-                        len: h.len,
-                        head: h.head,
-                        tail: h.tail,
-                        items: h.items,
-                    })
-                })
-                .collect(),
+            _ => match self.dialect.at_limit {
+                AtLimit::Limit => "limit",
+                AtLimit::Ended => "ended",
+            },
         }
     }
 
-    /// Exit code of spec §8: 0 ended, 1 faulted, 3 tick limit.
-    pub fn exit_code(&self) -> i32 {
-        match self.status {
+    /// 0 ended, 1 faulted, 3 tick limit (2 is for files and arguments).
+    pub fn exit_code(&self) -> u8 {
+        match self.status() {
             "ended" => 0,
             "faulted" => 1,
             _ => 3,
         }
     }
 
+    /// One JSON object: the common header, then the dialect's fields.
     pub fn to_json(&self) -> String {
-        serde_json::to_string(self).unwrap_or_else(|e| format!("{{\"error\":\"{e}\"}}"))
+        let m = self.machine;
+        let fault = serde_json::to_string(&m.fault()).unwrap_or_else(|_| "null".to_string());
+        let fields = m.report_json();
+        let mut out = format!(
+            "{{\"dialect\":\"{}\",\"status\":\"{}\",\"ticks\":{},\"steps\":{},\"fault\":{fault}",
+            m.dialect(),
+            self.status(),
+            m.ticks(),
+            m.steps()
+        );
+        if !fields.is_empty() {
+            out.push(',');
+            out.push_str(&fields);
+        }
+        out.push('}');
+        out
     }
 
-    /// A summary for people: status, counters, fault, non-zero registers, queues.
+    /// A summary for people: status, counters, fault, then the dialect's lines.
     pub fn to_text(&self) -> String {
+        let m = self.machine;
         let mut out = String::new();
         let _ = writeln!(
             out,
-            "status: {}  ticks: {} ({:.3} ms)  steps: {}",
-            self.status,
-            self.ticks,
-            self.ticks as f64 * 0.12,
-            self.steps
+            "status: {}  {}: {} ({:.3} ms)  steps: {}",
+            self.status(),
+            self.dialect.vocabulary.ticks,
+            m.ticks(),
+            m.ticks() as f64 * f64::from(m.tick_micros()) / 1000.0,
+            m.steps()
         );
-        if let Some(f) = &self.fault {
+        if let Some(f) = m.fault() {
             let _ = writeln!(out, "fault: {} at line {}: {}", f.kind, f.line, f.message);
         }
-        let _ = writeln!(
-            out,
-            "ISW: 0x{:04X} ({:016b})  PSW: 0x{:04X} ({:016b})",
-            self.isw, self.isw, self.psw, self.psw
-        );
-        let nonzero: Vec<String> = self
-            .registers
-            .iter()
-            .enumerate()
-            .filter(|(_, v)| **v != 0)
-            .map(|(i, v)| format!("R{i}={v}"))
-            .collect();
-        if nonzero.is_empty() {
-            let _ = writeln!(out, "registers: all zero");
-        } else {
-            let _ = writeln!(out, "registers (non-zero): {}", nonzero.join(" "));
-        }
-        for q in &self.queues {
-            let _ = writeln!(
-                out,
-                "queue R{}: {}/{} head {} tail {} items (oldest first) {:?}",
-                q.base, q.len, q.size, q.head, q.tail, q.items
-            );
-        }
+        out.push_str(&m.report_text());
         out
     }
 }
 
-/// Assemble `source` and build a machine, or return every diagnostic.
-pub fn load(source: &str) -> Result<SilverLode, Vec<Diagnostic>> {
-    assemble(source).map(|p| SilverLode::new(Arc::new(p)))
+/// Run `engine`'s program from its start with `events` up to `max_ticks`, leaving the final
+/// state in the returned engine.
+pub fn run_engine(engine: &dyn Engine, events: &[UserEvent], max_ticks: u64) -> Box<dyn Engine> {
+    let mut run = engine.restarted(Vec::new(), Vec::new());
+    run.run_headless(events, max_ticks);
+    run
 }

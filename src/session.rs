@@ -2,30 +2,29 @@
 //! nothing that can be recomputed. RON via serde, pretty-printed, with an explicit format
 //! version.
 //!
-//! A session holds the program text (and where it came from), the dialect, breakpoints, servo
-//! settings, the timeline of user events (input switches, register and bit edits, each with its
-//! tick), the tick the user was at and the furthest tick reached, the timeline marks, and the
-//! view settings. Loading replays the program deterministically to the furthest tick and goes
-//! back to the saved one, so registers, flags, queues, the trace and the history are exactly
-//! what they were.
+//! A session holds the program text (and where it came from), its dialect and the dialect's
+//! settings, breakpoints, plot channels, the timeline of user events (each a location by name
+//! and a change, at a (tick, step) position), the position the user was at and the furthest
+//! one reached, the timeline marks, and the view settings. Loading replays the program
+//! deterministically to the furthest position and goes back to the saved one, so every
+//! location, the trace and the history are exactly what they were.
 //!
-//! Compatibility: every field has a default, so files from older formats still load; a file
-//! from a newer format is refused with a clear message. Saving writes a temporary file and
-//! renames it over the target.
+//! Compatibility: format 1 (SilverLode only: events as `Input`/`Register`/`StatusBit`, the
+//! servo model in `servo`, formats by register index) still loads, converted to format 2. Every
+//! field has a default, so files missing fields load; a file from a newer format is refused
+//! with a clear message. Saving writes a temporary file and renames it over the target.
 
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::debugger::format::Format;
-use crate::debugger::history::{MarkKind, UserEvent};
-use crate::debugger::{Debugger, Speed};
-use crate::machine::Machine;
-use crate::machine::silverlode::ServoSettings;
+use crate::debugger::history::{Change, MarkKind, UserEvent};
+use crate::debugger::{ChannelChoice, Debugger, Speed};
+use crate::machine::registry::{self, Dialect, Settings};
+use crate::machine::{Format, MachineView, Pos};
 
-/// The session format this build writes. Version 1 is the first.
-pub const FORMAT_VERSION: u32 = 1;
-pub const DIALECT: &str = "silverlode";
+/// The session format this build writes.
+pub const FORMAT_VERSION: u32 = 2;
 /// The furthest tick a session may ask to replay to: 10^9 ticks (33 hours of servo time,
 /// seconds to a minute of replay). Beyond it a damaged or hostile file could freeze the window.
 pub const MAX_REPLAY_TICKS: u64 = 1_000_000_000;
@@ -43,20 +42,31 @@ pub struct Session {
     /// The program text itself, so a session opens anywhere.
     pub program: String,
     pub breakpoints: Vec<usize>,
-    pub servo: ServoSettings,
-    /// Input switches and edits, each with its tick (may lie after `tick`).
-    pub events: Vec<UserEvent>,
-    /// The tick the user was at.
-    pub tick: u64,
-    /// The furthest tick reached (the timeline is rebuilt up to here).
-    pub furthest: u64,
+    /// The dialect's settings (SilverLode: the servo model).
+    pub settings: Settings,
+    /// The plot channels; `None` means the dialect's defaults.
+    pub channels: Option<Vec<ChannelChoice>>,
+    /// Input switches and edits, each at its position (may lie after `at`).
+    pub events: Vec<SessionEvent>,
+    /// The position the user was at.
+    pub at: Pos,
+    /// The furthest position reached (the timeline is rebuilt up to here).
+    pub furthest: Pos,
     pub marks: Vec<SessionMark>,
     pub view: ViewSettings,
 }
 
+/// One user edit, by location name.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SessionEvent {
+    pub at: Pos,
+    pub location: String,
+    pub change: Change,
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct SessionMark {
-    pub tick: u64,
+    pub at: Pos,
     pub fault: bool,
     pub line: usize,
 }
@@ -66,11 +76,11 @@ pub struct SessionMark {
 #[serde(default)]
 pub struct ViewSettings {
     pub register_format: Format,
-    /// Formats chosen for single registers.
-    pub register_formats: Vec<(usize, Format)>,
+    /// Formats chosen for single locations, by name.
+    pub formats: Vec<(String, Format)>,
     pub only_used_registers: bool,
-    pub selected_register: Option<usize>,
-    pub plot_velocity: bool,
+    /// The location selected in the register view, by name.
+    pub selected: Option<String>,
     pub speed: Speed,
 }
 
@@ -78,10 +88,9 @@ impl Default for ViewSettings {
     fn default() -> Self {
         ViewSettings {
             register_format: Format::Signed,
-            register_formats: Vec::new(),
+            formats: Vec::new(),
             only_used_registers: true,
-            selected_register: None,
-            plot_velocity: false,
+            selected: None,
             speed: Speed::PerSecond(10.0),
         }
     }
@@ -118,6 +127,12 @@ pub enum SessionError {
         first: String,
         count: usize,
     },
+    #[error("{path}: an edit names '{location}', which this {dialect} program does not have")]
+    UnknownLocation {
+        path: String,
+        location: String,
+        dialect: &'static str,
+    },
     #[error("{path} asks to replay {ticks} ticks; servoscope replays at most {MAX_REPLAY_TICKS}")]
     TooLong { path: String, ticks: u64 },
     #[error("cannot encode the session: {0}")]
@@ -132,25 +147,167 @@ struct Header {
     dialect: String,
 }
 
+/// Format 1, as written by servoscope before dialects: SilverLode only.
+mod v1 {
+    use serde::Deserialize;
+
+    #[derive(Deserialize, Default)]
+    #[serde(default)]
+    pub struct Session {
+        pub program_name: String,
+        pub program_path: Option<std::path::PathBuf>,
+        pub program: String,
+        pub breakpoints: Vec<usize>,
+        pub servo: crate::machine::silverlode::ServoSettings,
+        pub events: Vec<Event>,
+        pub tick: u64,
+        pub furthest: u64,
+        pub marks: Vec<Mark>,
+        pub view: View,
+    }
+
+    #[derive(Deserialize)]
+    pub struct Event {
+        pub tick: u64,
+        pub edit: Edit,
+    }
+
+    #[derive(Deserialize)]
+    pub enum Edit {
+        Input { input: usize, high: bool },
+        Register { register: usize, value: u32 },
+        StatusBit { word: String, bit: u8, on: bool },
+    }
+
+    #[derive(Deserialize)]
+    pub struct Mark {
+        pub tick: u64,
+        pub fault: bool,
+        pub line: usize,
+    }
+
+    #[derive(Deserialize)]
+    #[serde(default)]
+    pub struct View {
+        pub register_format: crate::machine::Format,
+        pub register_formats: Vec<(usize, crate::machine::Format)>,
+        pub only_used_registers: bool,
+        pub selected_register: Option<usize>,
+        #[allow(dead_code)]
+        pub plot_velocity: bool,
+        pub speed: crate::debugger::Speed,
+    }
+
+    impl Default for View {
+        fn default() -> Self {
+            View {
+                register_format: crate::machine::Format::Signed,
+                register_formats: Vec::new(),
+                only_used_registers: true,
+                selected_register: None,
+                plot_velocity: false,
+                speed: crate::debugger::Speed::PerSecond(10.0),
+            }
+        }
+    }
+}
+
+impl From<v1::Session> for Session {
+    fn from(old: v1::Session) -> Session {
+        let event = |e: v1::Event| {
+            let (location, change) = match e.edit {
+                v1::Edit::Input { input, high } => {
+                    (format!("IO{}", input + 1), Change::Set(u64::from(high)))
+                }
+                v1::Edit::Register { register, value } => {
+                    (format!("R{register}"), Change::Set(u64::from(value)))
+                }
+                v1::Edit::StatusBit { word, bit, on } => (word, Change::Bit { bit, on }),
+            };
+            SessionEvent {
+                at: Pos::at_tick(e.tick),
+                location,
+                change,
+            }
+        };
+        Session {
+            format: FORMAT_VERSION,
+            dialect: "silverlode".to_string(),
+            program_name: old.program_name,
+            program_path: old.program_path,
+            program: old.program,
+            breakpoints: old.breakpoints,
+            settings: crate::machine::silverlode::dialect::settings_of(old.servo),
+            channels: None,
+            events: old.events.into_iter().map(event).collect(),
+            at: Pos::at_tick(old.tick),
+            furthest: Pos::at_tick(old.furthest),
+            marks: old
+                .marks
+                .into_iter()
+                .map(|m| SessionMark {
+                    at: Pos::at_tick(m.tick),
+                    fault: m.fault,
+                    line: m.line,
+                })
+                .collect(),
+            view: ViewSettings {
+                register_format: old.view.register_format,
+                formats: old
+                    .view
+                    .register_formats
+                    .into_iter()
+                    .map(|(r, f)| (format!("R{r}"), f))
+                    .collect(),
+                only_used_registers: old.view.only_used_registers,
+                selected: old.view.selected_register.map(|r| format!("R{r}")),
+                speed: old.view.speed,
+            },
+        }
+    }
+}
+
+/// A file is a session when its extension is `.ron`.
+pub fn is_session_path(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("ron"))
+}
+
+/// User events by location name, for sessions.
+pub fn named_events(m: &dyn MachineView, events: &[UserEvent]) -> Vec<SessionEvent> {
+    events
+        .iter()
+        .map(|e| SessionEvent {
+            at: e.at,
+            location: m.info(e.loc).map_or_else(String::new, |i| i.name),
+            change: e.change,
+        })
+        .collect()
+}
+
 impl Session {
     /// The debugging moment as a session.
     pub fn capture(debugger: &Debugger, program_path: Option<PathBuf>, view: ViewSettings) -> Self {
+        let m = debugger.machine();
+        let defaults = ChannelChoice::defaults(debugger.dialect());
+        let channels = debugger.channel_choices();
         Session {
             format: FORMAT_VERSION,
-            dialect: DIALECT.to_string(),
+            dialect: debugger.dialect().name.to_string(),
             program_name: debugger.name().to_string(),
             program_path,
             program: debugger.source().to_string(),
             breakpoints: debugger.breakpoints().iter().copied().collect(),
-            servo: debugger.settings(),
-            events: debugger.events().to_vec(),
-            tick: debugger.machine().ticks(),
-            furthest: debugger.furthest_tick(),
+            settings: debugger.settings().clone(),
+            channels: (channels != defaults.as_slice()).then(|| channels.to_vec()),
+            events: named_events(m, debugger.events()),
+            at: debugger.pos(),
+            furthest: debugger.furthest(),
             marks: debugger
                 .marks()
                 .iter()
                 .map(|m| SessionMark {
-                    tick: m.tick,
+                    at: m.at,
                     fault: m.kind == MarkKind::Fault,
                     line: m.line,
                 })
@@ -167,7 +324,7 @@ impl Session {
         ron::ser::to_string_pretty(self, config).map_err(|e| SessionError::Encode(e.to_string()))
     }
 
-    /// Parse a session; `path` names the file in messages.
+    /// Parse a session of any known format; `path` names the file in messages.
     pub fn from_ron(text: &str, path: &str) -> Result<Session, SessionError> {
         let malformed = |e: ron::error::SpannedError| SessionError::Malformed {
             path: path.to_string(),
@@ -188,11 +345,24 @@ impl Session {
                 found: header.format,
             });
         }
-        if header.dialect != DIALECT {
+        let known = if header.format == 1 {
+            header.dialect == "silverlode"
+        } else {
+            registry::by_name(&header.dialect).is_some()
+        };
+        if !known {
             return Err(SessionError::Foreign {
                 path: path.to_string(),
-                reason: format!("its dialect is '{}', not '{DIALECT}'", header.dialect),
+                reason: format!(
+                    "its dialect '{}' is not one servoscope knows ({})",
+                    header.dialect,
+                    registry::list()
+                ),
             });
+        }
+        if header.format == 1 {
+            let old: v1::Session = ron::from_str(text).map_err(malformed)?;
+            return Ok(old.into());
         }
         ron::from_str(text).map_err(malformed)
     }
@@ -217,38 +387,69 @@ impl Session {
         })
     }
 
-    /// Rebuild the debugger: replay to the furthest tick, then go back to the saved one.
+    /// The session's dialect (checked when the file was read).
+    pub fn dialect(&self) -> &'static Dialect {
+        registry::by_name(&self.dialect).unwrap_or_else(registry::default_dialect)
+    }
+
+    /// The events with their locations resolved against the session's program.
+    pub fn user_events(&self, m: &dyn MachineView, path: &str) -> Result<Vec<UserEvent>, SessionError> {
+        self.events
+            .iter()
+            .map(|e| {
+                let loc = m.find(&e.location).ok_or_else(|| SessionError::UnknownLocation {
+                    path: path.to_string(),
+                    location: e.location.clone(),
+                    dialect: m.dialect(),
+                })?;
+                Ok(UserEvent {
+                    at: e.at,
+                    loc,
+                    change: e.change,
+                })
+            })
+            .collect()
+    }
+
+    /// Rebuild the debugger: replay to the furthest position, then go back to the saved one.
     pub fn restore(&self, path: &str) -> Result<Debugger, SessionError> {
-        let furthest = self.furthest.max(self.tick);
-        if furthest > MAX_REPLAY_TICKS {
+        let furthest = self.furthest.max(self.at);
+        if furthest.tick > MAX_REPLAY_TICKS {
             return Err(SessionError::TooLong {
                 path: path.to_string(),
-                ticks: furthest,
+                ticks: furthest.tick,
             });
         }
-        let mut debugger = Debugger::restore(
-            self.program_name.clone(),
-            self.program.clone(),
-            self.servo,
-            self.breakpoints.iter().copied(),
-            self.events.clone(),
-            furthest,
-        )
-        .map_err(|diags| SessionError::Program {
+        let dialect = self.dialect();
+        let program_error = |diags: Vec<crate::machine::Diagnostic>| SessionError::Program {
             path: path.to_string(),
             first: diags.first().map(ToString::to_string).unwrap_or_default(),
             count: diags.len(),
-        })?;
+        };
+        let probe = (dialect.open)(&self.program, &dialect.settings_from(&self.settings))
+            .map_err(program_error)?;
+        let events = self.user_events(probe.machine(), path)?;
+        let mut debugger = Debugger::restore(
+            dialect,
+            self.program_name.clone(),
+            self.program.clone(),
+            &self.settings,
+            self.breakpoints.iter().copied(),
+            self.channels.clone(),
+            events,
+            furthest,
+        )
+        .map_err(program_error)?;
         debugger.restore_marks(self.marks.iter().map(|m| {
             let kind = if m.fault {
                 MarkKind::Fault
             } else {
                 MarkKind::Breakpoint
             };
-            (m.tick, kind, m.line)
+            (m.at, kind, m.line)
         }));
-        if self.tick < debugger.machine().ticks() {
-            debugger.goto_tick(self.tick);
+        if self.at < debugger.pos() {
+            debugger.goto(self.at);
         }
         debugger.set_speed(self.view.speed);
         Ok(debugger)
@@ -265,9 +466,14 @@ mod tests {
         assert!(matches!(newer, Err(SessionError::Newer { found: 99, .. })));
         let foreign = Session::from_ron("(name: \"x\")", "s.ron");
         assert!(matches!(foreign, Err(SessionError::Foreign { .. })));
-        let other = Session::from_ron("(format: 1, dialect: \"tml\")", "s.ron");
+        let other = Session::from_ron("(format: 2, dialect: \"cobol\")", "s.ron");
         assert!(matches!(other, Err(SessionError::Foreign { .. })));
-        let broken = Session::from_ron("(format: 1, dialect: \"silverlode\", tick: ", "s.ron");
+        let v1_other = Session::from_ron("(format: 1, dialect: \"tml\")", "s.ron");
+        assert!(
+            matches!(v1_other, Err(SessionError::Foreign { .. })),
+            "format 1 was SilverLode only"
+        );
+        let broken = Session::from_ron("(format: 2, dialect: \"silverlode\", at: ", "s.ron");
         match broken {
             Err(SessionError::Malformed { line, .. }) => assert_eq!(line, 1),
             other => panic!("{other:?}"),
@@ -283,6 +489,12 @@ mod tests {
             s.restore("huge.ron"),
             Err(SessionError::TooLong { .. })
         ));
+        let text = "(format: 2, dialect: \"silverlode\", program: \"l: JMP l\", at: (tick: 2000000000))";
+        let s = Session::from_ron(text, "huge.ron").expect("parses");
+        assert!(matches!(
+            s.restore("huge.ron"),
+            Err(SessionError::TooLong { .. })
+        ));
     }
 
     #[test]
@@ -292,9 +504,20 @@ mod tests {
             "old.ron",
         )
         .expect("loads");
-        assert_eq!(s.tick, 0);
+        assert_eq!(s.at, Pos::default());
         assert_eq!(s.view, ViewSettings::default());
         let d = s.restore("old.ron").expect("restores");
         assert_eq!(d.machine().ticks(), 0);
+    }
+
+    #[test]
+    fn an_edit_of_a_location_the_program_lacks_is_refused() {
+        let text = "(format: 2, dialect: \"silverlode\", program: \"END\", \
+                    events: [(at: (tick: 0), location: \"V1400\", change: Set(1))])";
+        let s = Session::from_ron(text, "s.ron").expect("parses");
+        match s.restore("s.ron") {
+            Err(SessionError::UnknownLocation { location, .. }) => assert_eq!(location, "V1400"),
+            other => panic!("{:?}", other.map(|_| ())),
+        }
     }
 }

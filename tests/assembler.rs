@@ -4,7 +4,7 @@ mod common;
 use common::{reg, run_ok};
 use proptest::prelude::*;
 use servoscope::machine::silverlode::assemble;
-use servoscope::machine::{Diagnostic, Machine};
+use servoscope::machine::{Diagnostic, Machine, MachineView};
 
 fn errors(source: &str) -> Vec<Diagnostic> {
     assemble(source).expect_err("expected errors")

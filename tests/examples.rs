@@ -4,8 +4,11 @@
 use std::path::Path;
 
 use servoscope::machine::silverlode::SilverLode;
-use servoscope::machine::{Machine, RunState};
-use servoscope::runner::{InputToggle, load, parse_input_spec, run_with_inputs};
+use servoscope::machine::{Machine, MachineView, RunState};
+mod common;
+
+use common::load;
+use servoscope::runner::{InputToggle, parse_input_spec, run_with_inputs};
 
 fn example(name: &str, inputs: &[InputToggle]) -> SilverLode {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -80,9 +83,14 @@ fn fifo_moves_visit_positions_in_order() {
     assert_eq!(m.reg(1), 0, "settled on the last position");
 }
 
+fn io3_at_3000() -> Vec<InputToggle> {
+    let m = load("END").expect("assembles");
+    parse_input_spec(&m, "IO3=3000").expect("IO3 is an input")
+}
+
 #[test]
 fn homing_zeroes_on_the_sensor() {
-    let m = example("homing.qsl", &parse_input_spec("IO3=3000").unwrap());
+    let m = example("homing.qsl", &io3_at_3000());
     assert_eq!((m.reg(0), m.reg(1)), (0, 0));
     assert_eq!(m.reg(11), 0, "the sensor was found");
     // 3000 ticks = 0.36 s: 0.05 s ramp (50 counts) then 2000 counts/s ≈ 670 counts of target;

@@ -4,7 +4,7 @@
 mod common;
 use common::{flags, machine, reg, run, run_ok};
 use servoscope::machine::silverlode::SilverLode;
-use servoscope::machine::{Machine, RunState, StopReason};
+use servoscope::machine::{Machine, MachineView, RunState, StopReason};
 
 /// Run up to the command on `line`, then execute it; return (state before, machine after).
 fn fault_at(source: &str, line: usize) -> (SilverLode, SilverLode) {
@@ -282,7 +282,7 @@ fn wbs_waits_for_an_input() {
     let mut m = machine("WBS IO2\nWRP 11, 1\nEND");
     assert_eq!(m.run_until(50, |_| false), StopReason::TickLimit);
     assert_eq!(m.run_state().label(), "waiting for input");
-    m.set_input(1, true);
+    m.set_io(1, true);
     assert!(m.isw() & 1 << 5 != 0, "ISW bit 5 mirrors IO2");
     m.run_until(1000, |_| false);
     assert_eq!(m.run_state(), RunState::Ended);
@@ -332,7 +332,7 @@ fn explanations_show_operands_and_values() {
         m.explain_last().as_deref(),
         Some("R25 = (R26 × 16668865) >> 16 = (1000 × 16668865) >> 16 = 254346")
     );
-    assert_eq!(m.last_written(), vec![25]);
+    assert_eq!(m.written_by_last(), vec![25]);
     for _ in 0..4 {
         m.step_command(1);
     }
@@ -340,5 +340,5 @@ fn explanations_show_operands_and_values() {
         m.explain_last().as_deref(),
         Some("push 30 at head of queue R27: slot 2 (R31), head 2→0, len 2→3; R10 = 0 free")
     );
-    assert_eq!(m.last_written(), vec![10, 27, 28, 31]);
+    assert_eq!(m.written_by_last(), vec![10, 27, 28, 31]);
 }

@@ -1,3 +1,4 @@
+#![cfg(feature = "gui")]
 //! The debugger window driven through egui_kittest: no window, no GPU. Widgets are found by
 //! their accessible labels, clicked and typed into, and frames are stepped with `step`/
 //! `run_steps` (a running simulation keeps asking for repaints).
@@ -8,7 +9,7 @@ use egui::{Key, Modifiers};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use servoscope::debugger::Speed;
-use servoscope::machine::{Machine, RunState};
+use servoscope::machine::{Machine, MachineView, RunState};
 use servoscope::ui::{Prefs, ServoscopeApp};
 
 fn harness(app: ServoscopeApp) -> Harness<'static, ServoscopeApp> {
@@ -47,7 +48,7 @@ fn opens_the_built_in_example_ready_to_step() {
 #[test]
 fn f10_moves_the_line_and_changes_a_register() {
     let mut h = harness(ServoscopeApp::new(Prefs::default()));
-    let before = h.state().debugger.machine().reg(40);
+    let before = h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(40);
     h.key_press(Key::F10);
     h.run_steps(2);
     let m = h.state().debugger.machine();
@@ -76,7 +77,7 @@ fn a_breakpoint_clicked_in_the_gutter_stops_a_run() {
     let d = &h.state().debugger;
     assert!(!d.is_running());
     assert_eq!(d.machine().pc_line(), Some(3));
-    assert_eq!(d.machine().reg(12), 1);
+    assert_eq!(d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(12), 1);
     h.get_by_label_contains("Breakpoint hit at line 3");
     // F9 on the same line (cursor not in the text: the pc line) removes it.
     h.key_press(Key::F9);
@@ -85,7 +86,7 @@ fn a_breakpoint_clicked_in_the_gutter_stops_a_run() {
     h.key_press(Key::F5);
     h.run_steps(3);
     assert_eq!(h.state().debugger.machine().run_state(), RunState::Ended);
-    assert_eq!(h.state().debugger.machine().reg(12), 3);
+    assert_eq!(h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(12), 3);
 }
 
 #[test]
@@ -139,7 +140,7 @@ fn typing_a_value_into_a_register() {
     h.step();
     h.get_by_label("Set").click();
     h.run_steps(2);
-    assert_eq!(h.state().debugger.machine().reg(20), 16);
+    assert_eq!(h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(20), 16);
 
     // A bad entry says why and changes nothing.
     h.get_by_label("Value of R20").focus();
@@ -149,7 +150,7 @@ fn typing_a_value_into_a_register() {
     h.step();
     h.get_by_label("Set").click();
     h.run_steps(2);
-    assert_eq!(h.state().debugger.machine().reg(20), 16);
+    assert_eq!(h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(20), 16);
     h.get_by_label_contains("Not changed");
 }
 
@@ -161,10 +162,10 @@ fn clicking_a_bit_flips_it() {
     h.run_steps(2);
     h.get_by_label("R20 bit 3").click();
     h.run_steps(2);
-    assert_eq!(h.state().debugger.machine().reg(20), 5 | 8);
+    assert_eq!(h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(20), 5 | 8);
     h.get_by_label("R20 bit 31").click();
     h.run_steps(2);
-    assert_eq!(h.state().debugger.machine().reg(20) as u32, 0x8000_000D);
+    assert_eq!(h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(20) as u32, 0x8000_000D);
 }
 
 #[test]
@@ -227,7 +228,7 @@ fn inputs_toggle_while_running() {
     assert!(h.state().debugger.is_running(), "waiting for IO2");
     h.get_by_label("IO2").click();
     h.run_steps(3);
-    assert!(h.state().debugger.machine().input(1));
+    assert!(h.state().debugger.machine().read(io(1 as u32)) == 1);
     assert_eq!(h.state().debugger.machine().run_state(), RunState::Ended);
 }
 
@@ -286,7 +287,7 @@ fn dropping_a_file_on_the_window_opens_it() {
     );
     h.key_press(Key::F10);
     h.run_steps(1);
-    assert_eq!(h.state().debugger.machine().reg(31), 7);
+    assert_eq!(h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(31), 7);
     let _ = std::fs::remove_file(&path);
 }
 
@@ -413,7 +414,7 @@ fn stepping_back_with_the_keys() {
         h.key_press(Key::F10);
         h.run_steps(1);
     }
-    assert_eq!(h.state().debugger.machine().reg(12), 2);
+    assert_eq!(h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(12), 2);
     h.key_press_modifiers(Modifiers::SHIFT, Key::F10);
     h.run_steps(2);
     let m = h.state().debugger.machine();
@@ -457,7 +458,7 @@ fn the_timeline_and_go_to_tick() {
     h.key_press(Key::Enter);
     h.run_steps(2);
     assert_eq!(h.state().debugger.machine().ticks(), 250);
-    assert_eq!(h.state().debugger.machine().reg(13), 125);
+    assert_eq!(h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(13), 125);
     assert_eq!(
         h.state().debugger.furthest_tick(),
         1000,
@@ -507,7 +508,7 @@ fn sessions_save_with_ctrl_s_and_reopen() {
     h.key_press(Key::F10);
     h.run_steps(2);
     h.state_mut().debugger.toggle_breakpoint(3);
-    h.state_mut().debugger.set_register(30, 77);
+    h.state_mut().debugger.set_value(reg(30), 77).expect("a register edit");
     h.run_steps(1);
     assert!(
         h.state().window_title().ends_with('●'),
@@ -552,7 +553,7 @@ fn sessions_save_with_ctrl_s_and_reopen() {
         "exactly the saved moment"
     );
     assert!(app.debugger.breakpoints().contains(&3));
-    assert_eq!(app.debugger.machine().reg(30), 77);
+    assert_eq!(app.debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(30), 77);
 
     // A corrupt session is refused and the current one stays.
     let bad = dir.join("bad.ron");
@@ -587,7 +588,7 @@ fn the_servo_model_is_settable_and_saved_with_the_session() {
         (80.0, 50)
     );
     assert_eq!(
-        h.state().debugger.machine().settings(),
+        h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").settings(),
         settings,
         "the machine uses them"
     );
@@ -599,7 +600,7 @@ fn the_servo_model_is_settable_and_saved_with_the_session() {
     // A stiffer loop follows a step faster: after 100 ticks it is closer to the target.
     h.state_mut().debugger.goto_tick(100);
     h.run_steps(3);
-    let stiff = h.state().debugger.machine().reg(1);
+    let stiff = h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(1);
     let mut soft = servoscope::runner::load("WRP 0, 1000\nDLY 3000\nEND").unwrap();
     for _ in 0..100 {
         soft.step_tick();

@@ -5,8 +5,9 @@
 
 mod common;
 use common::{machine, reg, run_ok};
+use servoscope::machine::silverlode::view::io;
 use servoscope::machine::silverlode::{ServoSettings, SilverLode};
-use servoscope::machine::{Machine, RunState};
+use servoscope::machine::{Machine, MachineView, RunState};
 use servoscope::runner::{InputToggle, run_with_inputs};
 
 const UNIT: f64 = 67_108_864.0; // 2^26
@@ -208,7 +209,7 @@ fn stop_on_input_records_the_trigger_position() {
         &mut m,
         &[InputToggle {
             tick: 5000,
-            input: 0,
+            input: io(0),
         }],
         10_000_000,
     );
@@ -240,7 +241,7 @@ fn homing_with_sub_target_zeroes_at_the_trigger() {
         &mut m,
         &[InputToggle {
             tick: 2000,
-            input: 2,
+            input: io(2),
         }],
         10_000_000,
     );

@@ -6,7 +6,7 @@ use std::collections::VecDeque;
 
 use common::{flags, machine, reg, run};
 use proptest::prelude::*;
-use servoscope::machine::{Machine, RunState};
+use servoscope::machine::{Machine, MachineView, RunState};
 
 /// Reduce any integer to the signed 32-bit register it would wrap to.
 fn wrap(v: i128) -> i32 {

@@ -2,13 +2,17 @@
 //! marks, breakpoints); corrupt, truncated, foreign and newer files are refused clearly; the
 //! runner saves and resumes sessions exactly as spec §8 says; the example sessions load.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::Duration;
 
 use servoscope::debugger::history::CHECKPOINT_EVERY;
 use servoscope::debugger::{Debugger, Speed};
-use servoscope::machine::{Machine, RunState};
+use servoscope::machine::{Machine, MachineView, RunState};
+use servoscope::machine::silverlode::SilverLode;
+use servoscope::machine::silverlode::view::{ISW, io, reg};
 use servoscope::session::{Session, SessionError, ViewSettings};
 
 fn temp(name: &str) -> PathBuf {
@@ -45,11 +49,11 @@ fn busy_debugger() -> Debugger {
         while d.advance(0.016, Duration::from_secs(5)) {}
     };
     drive(&mut d, 2_000);
-    d.set_input(1, true);
+    d.set_input(io(1), true).expect("an input");
     drive(&mut d, 2_500);
-    d.set_input(1, false);
-    d.set_register(30, 0xBEEF);
-    d.set_status_bit("ISW", 12, true);
+    d.set_input(io(1), false).expect("an input");
+    d.set_value(reg(30), 0xBEEF).expect("a register edit");
+    d.set_bit(ISW, 12, true).expect("an ISW bit");
     drive(&mut d, CHECKPOINT_EVERY + 4_000);
     d.run();
     while d.advance(0.016, Duration::from_secs(5)) {}
@@ -65,16 +69,20 @@ fn busy_debugger() -> Debugger {
 fn save_then_load_rebuilds_exactly_the_same_state() {
     let d = busy_debugger();
     let view = ViewSettings {
-        selected_register: Some(30),
-        plot_velocity: true,
+        selected: Some("R30".to_string()),
+        formats: vec![("R31".to_string(), servoscope::machine::Format::Bcd)],
         ..ViewSettings::default()
     };
     let session = Session::capture(&d, Some(PathBuf::from("prog.qsl")), view.clone());
     let path = temp("busy.ron");
     session.save(&path).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
-    assert!(text.contains("format: 1"), "explicit version");
-    assert!(text.contains("Input("), "the input timeline is in the file");
+    assert!(text.contains("format: 2"), "explicit version");
+    assert!(text.contains("dialect: \"silverlode\""), "the dialect is recorded");
+    assert!(
+        text.contains("location: \"IO2\""),
+        "the input timeline is in the file, by input name"
+    );
     assert!(text.lines().count() > 10, "pretty-printed, diffable");
 
     let loaded = Session::load(&path).unwrap();
@@ -82,7 +90,7 @@ fn save_then_load_rebuilds_exactly_the_same_state() {
     assert_eq!(loaded.view, view);
     let r = loaded.restore("busy.ron").unwrap();
     assert!(
-        r.machine() == d.machine(),
+        r.machine_as::<SilverLode>() == d.machine_as::<SilverLode>(),
         "the whole machine state is identical"
     );
     assert_eq!(r.machine().ticks(), CHECKPOINT_EVERY + 123);
@@ -103,7 +111,10 @@ fn save_then_load_rebuilds_exactly_the_same_state() {
     for t in [d.furthest_tick(), 10, CHECKPOINT_EVERY] {
         d.goto_tick(t);
         r.goto_tick(t);
-        assert!(d.machine() == r.machine(), "tick {t}");
+        assert!(
+            d.machine_as::<SilverLode>() == r.machine_as::<SilverLode>(),
+            "tick {t}"
+        );
     }
     let _ = std::fs::remove_file(&path);
 }
@@ -118,7 +129,7 @@ fn bad_files_are_refused_and_nothing_is_lost() {
         ("truncated", truncated.to_string()),
         ("garbage", "\u{1}\u{2} not a session".to_string()),
         ("json", "{\"format\": 1}".to_string()),
-        ("newer", good.replacen("format: 1", "format: 7", 1)),
+        ("newer", good.replacen("format: 2", "format: 7", 1)),
         ("foreign", "(name: \"a recipe\", servings: 4)".to_string()),
         ("bad program", good.replacen("CLD Q_INIT", "CLK Q_INIT", 1)),
     ];
@@ -148,17 +159,27 @@ fn bad_files_are_refused_and_nothing_is_lost() {
 #[test]
 fn a_failed_save_leaves_the_old_file() {
     let path = temp("keep.ron");
-    std::fs::write(&path, "old contents").unwrap();
-    let session = Session::capture(&Debugger::new("p", "END"), None, ViewSettings::default());
-    // A directory where the temporary file would go cannot be written: point at a missing one.
-    let bad = temp("missing-dir").join("x").join("s.ron");
-    assert!(session.save(&bad).is_err());
-    session.save(&path).unwrap();
-    assert!(
-        std::fs::read_to_string(&path)
-            .unwrap()
-            .contains("format: 1")
+    let old = Session::capture(&Debugger::new("old", "END"), None, ViewSettings::default());
+    old.save(&path).unwrap();
+    let before = std::fs::read(&path).unwrap();
+    // A directory where the temporary file goes makes the write fail half-way (even as root).
+    let blocker = path.with_file_name(format!(".keep.ron.{}.tmp", std::process::id()));
+    std::fs::create_dir_all(&blocker).unwrap();
+    let new = Session::capture(
+        &Debugger::new("new", "WRP 11, 1\nEND"),
+        None,
+        ViewSettings::default(),
     );
+    assert!(matches!(new.save(&path), Err(SessionError::Write { .. })));
+    assert_eq!(
+        std::fs::read(&path).unwrap(),
+        before,
+        "the old session is untouched"
+    );
+    assert_eq!(Session::load(&path).unwrap(), old, "and still loads");
+    std::fs::remove_dir(&blocker).unwrap();
+    new.save(&path).unwrap();
+    assert_eq!(Session::load(&path).unwrap(), new, "a later save works");
     let _ = std::fs::remove_file(&path);
 }
 
@@ -190,7 +211,7 @@ fn a_resumed_run_ends_identical_to_a_straight_one() {
     ]);
     assert_eq!(first.status.code(), Some(3), "stopped by the limit");
     let session = Session::load(Path::new(saved)).unwrap();
-    assert_eq!(session.tick, 1600);
+    assert_eq!(session.at.tick, 1600);
     assert_eq!(
         session.events.len(),
         2,
@@ -243,8 +264,8 @@ fn a_session_saved_in_the_debugger_resumes_in_the_runner() {
         v["registers"]["30"], 0xBEEF,
         "the register edit was replayed"
     );
-    assert_eq!(v["registers"]["20"], d.machine().reg(20));
-    assert_eq!(v["registers"]["1"], d.machine().reg(1));
+    assert_eq!(v["registers"]["20"], d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(20));
+    assert_eq!(v["registers"]["1"], d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(1));
 }
 
 fn example(name: &str) -> (Session, Debugger) {
@@ -282,12 +303,12 @@ fn fixed_point_lesson_opens_on_the_multiply() {
         Some(16),
         "about to run MULT_S64_SHR16"
     );
-    assert_eq!(d.machine().reg(20), 40000);
+    assert_eq!(d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(20), 40000);
     assert!(d.breakpoints().contains(&16));
-    assert_eq!(s.view.selected_register, Some(21));
+    assert_eq!(s.view.selected.as_deref(), Some("R21"));
     let mut d = d;
     d.step_command();
-    assert_eq!(d.machine().reg(21), 1016, "(40000 × 1665) >> 16");
+    assert_eq!(d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(21), 1016, "(40000 × 1665) >> 16");
 }
 
 #[test]
@@ -298,23 +319,26 @@ fn fifo_queue_lesson_has_its_breakpoints() {
     d.run();
     while d.advance(0.016, Duration::from_secs(5)) {}
     assert_eq!(d.machine().pc_line(), Some(19), "stops on the first pop");
-    let h = d.machine().queues()[0].header.clone().unwrap();
+    let h = d.machine_as::<SilverLode>().expect("a SilverLode machine").queues()[0].header.clone().unwrap();
     assert_eq!(h.items, [1000, 2500, -500]);
 }
 
 #[test]
 fn homing_session_opens_stopped_on_the_sensor() {
     let (_, d) = example("homing_on_input.ron");
-    let m = d.machine();
+    let m = d
+        .machine_as::<SilverLode>()
+        .expect("a SilverLode machine");
     assert_eq!(m.ticks(), 3001);
-    assert!(m.input(2), "IO3 high");
+    assert_eq!(d.machine().read(io(2)), 1, "IO3 high");
     assert!(m.isw() & 1 << 11 != 0, "input found");
-    assert_eq!(m.reg(4), m.state().regs[4]);
-    assert!(
-        (630..=680).contains(&m.reg(4)),
-        "trigger position {}",
-        m.reg(4)
-    );
+    // LAST_TRIG holds where the motor was when IO3 rose at tick 3000 (spec §5.5): the actual
+    // position of a straight run stopped at that tick.
+    let program = include_str!("../assets/examples/homing.qsl");
+    let mut straight = common::load(program).expect("assembles");
+    straight.run_until(3000, |_| false);
+    assert_eq!(m.reg(4), straight.reg(1), "R4 = R1 when IO3 rose");
+    assert!(m.reg(4) > 0 && m.reg(4) < 1_000_000, "the search had started");
     assert_eq!(m.run_state().label(), "waiting for move", "braking");
     let mut d = d;
     d.set_speed(Speed::Unlimited);

@@ -7,7 +7,8 @@ use std::time::Duration;
 use servoscope::debugger::history::{CHECKPOINT_EVERY, MarkKind};
 use servoscope::debugger::{Debugger, Event, Speed};
 use servoscope::machine::silverlode::SilverLode;
-use servoscope::machine::{Machine, RunState};
+use servoscope::machine::silverlode::view::{io, reg};
+use servoscope::machine::{MachineView, RunState};
 
 const PROGRAM: &str = "\
         CLD Q_INIT, 10, 40, 5
@@ -22,6 +23,10 @@ loop:   CLD Q_PUSH_HEAD, 11, 40, 7
         END
 ";
 
+fn sl(d: &Debugger) -> &SilverLode {
+    d.machine_as::<SilverLode>().expect("a SilverLode machine")
+}
+
 fn run_all(d: &mut Debugger) {
     d.set_speed(Speed::Unlimited);
     d.run();
@@ -32,23 +37,23 @@ fn run_all(d: &mut Debugger) {
 /// 500 and R31 at the first checkpoint tick: every state, by tick.
 fn straight(ticks: u64) -> Vec<SilverLode> {
     let mut d = Debugger::new("p", PROGRAM);
-    let mut states = vec![d.machine().clone()];
+    let mut states = vec![sl(&d).clone()];
     for t in 0..ticks {
         if t == 300 {
-            d.set_input(0, true);
-            *states.last_mut().unwrap() = d.machine().clone();
+            d.set_input(io(0), true).expect("an input");
+            *states.last_mut().unwrap() = sl(&d).clone();
         }
         if t == 500 {
-            d.set_register(30, 1234);
-            *states.last_mut().unwrap() = d.machine().clone();
+            d.set_value(reg(30), 1234).expect("a register edit");
+            *states.last_mut().unwrap() = sl(&d).clone();
         }
         // An edit exactly on a checkpoint tick: restoring that checkpoint must replay it.
         if t == CHECKPOINT_EVERY {
-            d.set_register(31, 77);
-            *states.last_mut().unwrap() = d.machine().clone();
+            d.set_value(reg(31), 77).expect("a register edit");
+            *states.last_mut().unwrap() = sl(&d).clone();
         }
         d.step_tick();
-        states.push(d.machine().clone());
+        states.push(sl(&d).clone());
     }
     states
 }
@@ -67,13 +72,13 @@ fn back_and_forth_gives_identical_states() {
     d.set_speed(Speed::Unlimited);
     d.goto_tick(300);
     while d.advance(0.016, Duration::from_secs(5)) {}
-    d.set_input(0, true);
+    d.set_input(io(0), true).expect("an input");
     d.goto_tick(500);
     while d.advance(0.016, Duration::from_secs(5)) {}
-    d.set_register(30, 1234);
+    d.set_value(reg(30), 1234).expect("a register edit");
     d.goto_tick(CHECKPOINT_EVERY);
     while d.advance(0.016, Duration::from_secs(5)) {}
-    d.set_register(31, 77);
+    d.set_value(reg(31), 77).expect("a register edit");
     d.goto_tick(total);
     while d.advance(0.016, Duration::from_secs(5)) {}
     assert_eq!(d.machine().ticks(), total);
@@ -96,7 +101,7 @@ fn back_and_forth_gives_identical_states() {
         d.goto_tick(tick);
         assert_eq!(d.machine().ticks(), tick);
         assert!(
-            d.machine() == &reference[tick as usize],
+            sl(&d) == &reference[tick as usize],
             "state at tick {tick} differs from the straight run"
         );
     }
@@ -105,7 +110,7 @@ fn back_and_forth_gives_identical_states() {
     for _ in 0..6 {
         d.step_back_tick();
         let t = d.machine().ticks();
-        assert!(d.machine() == &reference[t as usize], "tick {t}");
+        assert!(sl(&d) == &reference[t as usize], "tick {t}");
     }
     assert_eq!(d.machine().ticks(), CHECKPOINT_EVERY - 3);
     // And forward again by stepping: the same states, the recorded events replayed.
@@ -113,14 +118,14 @@ fn back_and_forth_gives_identical_states() {
     for _ in 0..400 {
         d.step_tick();
         let t = d.machine().ticks();
-        assert!(d.machine() == &reference[t as usize], "tick {t}");
+        assert!(sl(&d) == &reference[t as usize], "tick {t}");
     }
     assert!(
-        d.machine().input(0),
+        d.machine().read(io(0)) == 1,
         "the IO1 switch at tick 300 was replayed"
     );
     assert_eq!(
-        d.machine().reg(30),
+        d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(30),
         1234,
         "the edit at tick 500 was replayed"
     );
@@ -142,7 +147,7 @@ fn step_back_one_command_returns_to_its_start() {
         ),
         (51, 2, Some(3))
     );
-    assert_eq!(d.machine().reg(12), 0, "WRP 12 undone");
+    assert_eq!(d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(12), 0, "WRP 12 undone");
     d.step_back_command();
     assert_eq!(
         (d.machine().ticks(), d.machine().pc_line()),
@@ -150,7 +155,7 @@ fn step_back_one_command_returns_to_its_start() {
         "back over the whole DLY"
     );
     d.step_back_command();
-    assert_eq!((d.machine().ticks(), d.machine().reg(11)), (0, 0));
+    assert_eq!((d.machine().ticks(), d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(11)), (0, 0));
     d.step_back_command();
     assert_eq!(d.machine().ticks(), 0, "nothing before the start");
     // Mid-command (stepped by ticks into the DLY), back goes to the DLY's start.
@@ -172,10 +177,10 @@ fn reverse_continue_finds_the_previous_breakpoint_hit() {
     d.toggle_breakpoint(2);
     d.reverse_continue();
     assert_eq!(d.machine().pc_line(), Some(2));
-    assert_eq!(d.machine().reg(12), 2, "the third pass, about to increment");
+    assert_eq!(d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(12), 2, "the third pass, about to increment");
     let third = d.machine().ticks();
     d.reverse_continue();
-    assert_eq!(d.machine().reg(12), 1);
+    assert_eq!(d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(12), 1);
     assert!(d.machine().ticks() < third);
     d.reverse_continue();
     d.reverse_continue();
@@ -191,13 +196,13 @@ fn editing_in_the_past_discards_the_future_and_says_so() {
     d.set_speed(Speed::Unlimited);
     d.goto_tick(100);
     while d.advance(0.016, Duration::from_secs(1)) {}
-    d.set_input(1, true);
+    d.set_input(io(1), true).expect("an input");
     d.goto_tick(5000);
     while d.advance(0.016, Duration::from_secs(1)) {}
     assert_eq!(d.furthest_tick(), 5000);
     assert_eq!(d.events().len(), 1);
     d.goto_tick(50);
-    d.set_register(30, 9);
+    d.set_value(reg(30), 9).expect("a register edit");
     assert_eq!(d.event(), Some(&Event::FutureDiscarded(50)));
     assert_eq!(d.furthest_tick(), 50);
     assert_eq!(
@@ -207,7 +212,7 @@ fn editing_in_the_past_discards_the_future_and_says_so() {
     );
     assert_eq!(d.trace().end_tick(), Some(50));
     // Editing at the front of the timeline discards nothing.
-    d.set_register(31, 1);
+    d.set_value(reg(31), 1).expect("a register edit");
     assert_eq!(d.event(), Some(&Event::FutureDiscarded(50)), "unchanged");
     assert_eq!(d.events().len(), 2);
 }
@@ -229,7 +234,7 @@ fn breakpoint_hits_and_faults_are_marked_on_the_timeline() {
     run_all(&mut d);
     run_all(&mut d);
     let marks: Vec<(u64, MarkKind, usize)> =
-        d.marks().iter().map(|m| (m.tick, m.kind, m.line)).collect();
+        d.marks().iter().map(|m| (m.at.tick, m.kind, m.line)).collect();
     assert_eq!(
         marks,
         vec![(1, MarkKind::Breakpoint, 2), (2, MarkKind::Fault, 3)]

@@ -4,9 +4,11 @@
 use std::time::Duration;
 
 use proptest::prelude::*;
-use servoscope::debugger::trace::{BLOCK, Series, Trace};
+use servoscope::debugger::trace::{BLOCK, Trace};
 use servoscope::debugger::{Debugger, Speed};
 use servoscope::machine::Machine;
+
+mod common;
 
 #[test]
 fn the_trace_records_every_tick_of_a_run() {
@@ -17,14 +19,17 @@ fn the_trace_records_every_tick_of_a_run() {
     while d.advance(0.016, Duration::from_millis(50)) {}
     let end = d.machine().ticks();
     assert!(end > 1000);
-    // Replay the same program tick by tick and compare every tick.
-    let mut m = servoscope::runner::load(program).unwrap();
+    // Replay the same program tick by tick and compare every tick: SilverLode's default
+    // channels are target R0, actual R1 and error R6.
+    let names: Vec<&str> = d.channels().iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names, ["R0", "R1", "R6"]);
+    let mut m = common::load(program).unwrap();
     let trace = d.trace();
     for tick in 0..=end {
         let s = trace.at(tick).expect("covered");
         assert_eq!(
             s.values,
-            [m.reg(0), m.reg(1), m.reg(6), m.reg(7)],
+            [m.reg(0), m.reg(1), m.reg(6)].map(i64::from),
             "tick {tick}"
         );
         m.step_tick();
@@ -105,22 +110,22 @@ proptest! {
         columns in prop_oneof![1usize..5, 1usize..120],
         tail in 0u64..30,
     ) {
-        let mut trace = Trace::default();
+        let mut trace = Trace::new(4);
         let mut samples = Vec::new();
         let mut tick = start;
         for (dt, v) in steps {
-            trace.record(tick, [v, 0, 0, 0]);
+            trace.record(tick, &[i64::from(v), 0, 0, 0]);
             if samples.last().is_none_or(|&(_, last)| last != v) {
                 samples.push((tick, v));
             }
             tick += dt;
         }
         let end = tick - 1 + tail;
-        trace.record(end, [samples.last().unwrap().1, 0, 0, 0]);
+        trace.record(end, &[i64::from(samples.last().unwrap().1), 0, 0, 0]);
         let span = (end + 20) as f64;
         let (a, b) = (view.0 * span, view.1 * span);
         let (t0, t1) = if a < b { (a, b) } else { (b, a + 1.0) };
-        let got = trace.decimate(Series::Target, t0, t1, columns);
+        let got = trace.decimate(0, t0, t1, columns);
         let want = brute(&samples, end, t0, t1, columns);
         prop_assert_eq!(got, want);
     }

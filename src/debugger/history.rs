@@ -1,46 +1,99 @@
 //! Time travel: everything a run depends on besides the program is a timeline of user events
-//! (input switches, register and status-bit edits, each at a tick), so any tick can be rebuilt
-//! by deterministic re-execution from the nearest checkpoint.
+//! (input switches and edits of any location, each at a (tick, step) position), so any
+//! position can be rebuilt by deterministic re-execution from the nearest checkpoint.
 //!
-//! - A checkpoint (a clone of the machine, about 1 KB) is kept every [`CHECKPOINT_EVERY`] ticks,
-//!   taken *before* that tick's events apply; going to tick N restores the checkpoint at or
-//!   before N and re-executes at most that many ticks (well under a millisecond).
-//! - The state shown at tick N includes the events of tick N.
-//! - Editing at a tick before the furthest one reached rewrites history: the checkpoints,
-//!   events and trace after it are discarded.
+//! - A checkpoint (a clone of the machine) is kept every [`CHECKPOINT_EVERY`] ticks, at the
+//!   tick's start and *before* that position's events apply; going to a position restores the
+//!   checkpoint at or before it and re-executes at most that many ticks.
+//! - The state shown at a position includes the events of that position.
+//! - Editing at a position before the furthest one reached rewrites history: the checkpoints,
+//!   events, marks and trace after it are discarded.
+//! - [`replay`] is the one implementation of "run with events" that the timeline and the
+//!   headless runner share, so a run and a session always agree.
 
-use serde::{Deserialize, Serialize};
-
-use super::trace::Trace;
-use crate::machine::silverlode::SilverLode;
-use crate::machine::{Machine, StopReason};
+use super::trace::{Channel, Trace};
+use crate::machine::{Loc, Machine, MachineView, Pos, StopReason, WriteError};
 
 pub const CHECKPOINT_EVERY: u64 = 16_384;
 
-/// A change the user made, replayed at its tick.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Edit {
-    Input { input: usize, high: bool },
-    Register { register: usize, value: u32 },
-    StatusBit { word: String, bit: u8, on: bool },
+/// What an edit does to its location.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum Change {
+    /// Store this value (an input switch is a 1-bit location set to 0 or 1).
+    Set(u64),
+    /// Set or clear one bit, keeping the others as they are at that moment.
+    Bit { bit: u8, on: bool },
 }
 
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+/// A change the user made, replayed when the run reaches its position.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct UserEvent {
-    pub tick: u64,
-    pub edit: Edit,
+    pub at: Pos,
+    pub loc: Loc,
+    pub change: Change,
 }
 
-impl Edit {
-    pub fn apply(&self, m: &mut SilverLode) {
-        match self {
-            Edit::Input { input, high } => m.set_input(*input, *high),
-            Edit::Register { register, value } => m.set_register(*register, *value),
-            Edit::StatusBit { word, bit, on } => {
-                m.set_status_bit(word, *bit, *on);
+impl UserEvent {
+    pub fn apply<M: MachineView + ?Sized>(&self, m: &mut M) -> Result<(), WriteError> {
+        let value = match self.change {
+            Change::Set(v) => v,
+            Change::Bit { bit, on } => {
+                let v = m.read(self.loc);
+                let b = 1u64.checked_shl(u32::from(bit)).unwrap_or(0);
+                if on { v | b } else { v & !b }
             }
-        }
+        };
+        m.write(self.loc, value)
     }
+}
+
+/// Why `replay` calls its observer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Observed {
+    /// A tick completed.
+    Tick,
+    /// Events were applied at the current position.
+    Edits,
+}
+
+/// Run `m` until `limit`, a stop or `stop` (asked before each instruction starts), applying
+/// each event of `events` (sorted by position) when the machine reaches its position. `next`
+/// is the index of the first event not applied yet; `observe` runs after every tick and after
+/// events apply.
+pub fn replay<M: Machine, F: FnMut(&M) -> bool, O: FnMut(&M, Observed)>(
+    m: &mut M,
+    events: &[UserEvent],
+    next: &mut usize,
+    limit: Pos,
+    mut stop: F,
+    mut observe: O,
+) -> StopReason {
+    loop {
+        if apply_due(m, events, next) {
+            observe(m, Observed::Edits);
+        }
+        let until = events.get(*next).map_or(limit, |e| e.at.min(limit));
+        let reason = m.run_observed(until, &mut stop, |m| observe(m, Observed::Tick));
+        if apply_due(m, events, next) {
+            observe(m, Observed::Edits);
+        }
+        if reason == StopReason::TickLimit && m.pos() < limit {
+            continue;
+        }
+        return reason;
+    }
+}
+
+fn apply_due<M: MachineView>(m: &mut M, events: &[UserEvent], next: &mut usize) -> bool {
+    let now = m.pos();
+    let mut applied = false;
+    while let Some(e) = events.get(*next).filter(|e| e.at <= now) {
+        // Refused edits were refused when recorded too; a damaged session's are skipped.
+        let _ = e.apply(m);
+        *next += 1;
+        applied = true;
+    }
+    applied
 }
 
 /// Where a run stopped, for the timeline's marks.
@@ -52,49 +105,49 @@ pub enum MarkKind {
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Mark {
-    pub tick: u64,
+    pub at: Pos,
     pub kind: MarkKind,
     pub line: usize,
 }
 
-/// The machine with its timeline: checkpoints, user events, the trace, the furthest tick.
-pub struct Timeline {
-    pub machine: SilverLode,
+/// The machine with its timeline: checkpoints, user events, the trace, the furthest position.
+pub struct Timeline<M: Machine> {
+    pub machine: M,
     pub trace: Trace,
-    checkpoints: Vec<SilverLode>,
+    channels: Vec<Channel>,
+    checkpoints: Vec<M>,
     events: Vec<UserEvent>,
-    /// Index of the first event not applied yet (all events at or before the current tick are).
+    /// Index of the first event not applied yet (all events at or before the current position
+    /// are).
     next_event: usize,
-    furthest: u64,
+    furthest: Pos,
     marks: Vec<Mark>,
 }
 
-fn motion_values(m: &SilverLode) -> [i32; 4] {
-    [m.reg(0), m.reg(1), m.reg(6), m.reg(7)]
-}
-
-impl Timeline {
-    /// A fresh timeline at tick 0 of `start`, with `events` to replay as their ticks come.
-    pub fn new(start: SilverLode, mut events: Vec<UserEvent>) -> Self {
-        events.sort_by_key(|e| e.tick);
+impl<M: Machine> Timeline<M> {
+    /// A fresh timeline at the start of `start`, with `events` to replay as their positions
+    /// come and the trace recording `channels`.
+    pub fn new(start: M, mut events: Vec<UserEvent>, channels: Vec<Channel>) -> Self {
+        events.sort_by_key(|e| e.at);
         let mut t = Timeline {
             machine: start.clone(),
-            trace: Trace::default(),
+            trace: Trace::new(channels.len()),
+            channels,
             checkpoints: vec![start],
             events,
             next_event: 0,
-            furthest: 0,
+            furthest: Pos::default(),
             marks: Vec::new(),
         };
-        t.apply_due_events();
-        t.trace.record(0, motion_values(&t.machine));
+        apply_due(&mut t.machine, &t.events, &mut t.next_event);
+        t.record_now();
         t
     }
 
-    pub fn now(&self) -> u64 {
-        self.machine.ticks()
+    pub fn now(&self) -> Pos {
+        self.machine.pos()
     }
-    pub fn furthest(&self) -> u64 {
+    pub fn furthest(&self) -> Pos {
         self.furthest
     }
     pub fn events(&self) -> &[UserEvent] {
@@ -103,103 +156,99 @@ impl Timeline {
     pub fn marks(&self) -> &[Mark] {
         &self.marks
     }
+    pub fn channels(&self) -> &[Channel] {
+        &self.channels
+    }
+    /// The machine at the start of the timeline (before any event).
+    pub fn initial(&self) -> &M {
+        &self.checkpoints[0]
+    }
+
     /// Bytes held by checkpoints, events and the trace.
     pub fn memory_bytes(&self) -> usize {
-        let checkpoint = std::mem::size_of::<SilverLode>() + 256;
+        let checkpoint = std::mem::size_of::<M>() + 256;
         self.checkpoints.len() * checkpoint
             + self.events.len() * std::mem::size_of::<UserEvent>()
             + self.trace.memory_bytes()
     }
 
-    fn apply_due_events(&mut self) {
-        let now = self.machine.ticks();
-        while let Some(e) = self.events.get(self.next_event).filter(|e| e.tick <= now) {
-            e.edit.apply(&mut self.machine);
-            self.next_event += 1;
-        }
-        if self.next_event > 0 {
-            // A same-tick edit changes what the trace shows for this tick.
-            self.trace.record(now, motion_values(&self.machine));
-        }
+    fn record_now(&mut self) {
+        let mut values = [0i64; super::trace::MAX_CHANNELS];
+        sample(&self.machine, &self.channels, &mut values);
+        self.trace
+            .record(self.machine.ticks(), &values[..self.channels.len()]);
     }
 
-    /// Run forward until `tick_limit`, the end or a fault, or `stop` (asked before each command
-    /// starts) — applying events at their ticks, recording the trace and keeping checkpoints.
-    pub fn forward<F: FnMut(&SilverLode) -> bool>(
-        &mut self,
-        tick_limit: u64,
-        mut stop: F,
-    ) -> StopReason {
-        loop {
-            let next_event = self.events.get(self.next_event).map(|e| e.tick);
-            let limit = next_event.map_or(tick_limit, |t| t.min(tick_limit));
-            let Timeline {
-                machine,
-                trace,
-                checkpoints,
-                furthest,
-                ..
-            } = self;
-            let reason = machine.run_observed(limit, &mut stop, |m| {
-                let t = m.ticks();
-                trace.record(t, motion_values(m));
-                if t.is_multiple_of(CHECKPOINT_EVERY)
-                    && checkpoints.last().is_none_or(|c| c.ticks() < t)
-                {
-                    checkpoints.push(m.clone());
-                }
-                *furthest = (*furthest).max(t);
-            });
-            self.apply_due_events();
-            if reason == StopReason::TickLimit && self.machine.ticks() < tick_limit {
-                continue;
+    /// Run forward until `limit`, the end or a fault, or `stop` (asked before each instruction
+    /// starts): applying events at their positions, recording the trace and checkpoints.
+    pub fn forward<F: FnMut(&M) -> bool>(&mut self, limit: Pos, stop: F) -> StopReason {
+        let Timeline {
+            machine,
+            trace,
+            channels,
+            checkpoints,
+            events,
+            next_event,
+            furthest,
+            ..
+        } = self;
+        let mut values = [0i64; super::trace::MAX_CHANNELS];
+        let n = channels.len();
+        let reason = replay(machine, events, next_event, limit, stop, |m, why| {
+            let t = m.ticks();
+            sample(m, channels, &mut values);
+            // A second record of a tick (after an edit) replaces its values.
+            trace.record(t, &values[..n]);
+            if why == Observed::Tick
+                && t.is_multiple_of(CHECKPOINT_EVERY)
+                && checkpoints.last().is_none_or(|c| c.ticks() < t)
+            {
+                checkpoints.push(m.clone());
             }
-            return reason;
-        }
+        });
+        *furthest = (*furthest).max(machine.pos());
+        reason
     }
 
-    /// Rebuild the state at `tick` (at most the furthest tick reached).
-    pub fn goto(&mut self, tick: u64) {
-        let tick = tick.min(self.furthest);
+    /// Rebuild the state at `pos` (at most the furthest position reached).
+    pub fn goto(&mut self, pos: Pos) {
+        let pos = pos.min(self.furthest);
         let i = self
             .checkpoints
-            .partition_point(|c| c.ticks() <= tick)
+            .partition_point(|c| c.pos() <= pos)
             .saturating_sub(1);
         self.restore(i);
-        self.forward(tick, |_| false);
+        self.forward(pos, |_| false);
     }
 
     fn restore(&mut self, checkpoint: usize) {
         self.machine = self.checkpoints[checkpoint].clone();
-        let at = self.machine.ticks();
-        self.next_event = self.events.partition_point(|e| e.tick < at);
-        self.apply_due_events();
+        let at = self.machine.pos();
+        self.next_event = self.events.partition_point(|e| e.at < at);
+        apply_due(&mut self.machine, &self.events, &mut self.next_event);
     }
 
-    /// The last tick before `before` where a command was about to start and `wanted` holds,
-    /// searching back one checkpoint interval at a time. Leaves the machine where it was.
-    pub fn find_back<F: FnMut(&SilverLode) -> bool>(
-        &mut self,
-        before: u64,
-        mut wanted: F,
-    ) -> Option<u64> {
+    /// The last position before `before` where an instruction was about to start and `wanted`
+    /// holds, searching back one checkpoint interval at a time. Leaves the machine where it
+    /// was.
+    pub fn find_back<F: FnMut(&M) -> bool>(&mut self, before: Pos, mut wanted: F) -> Option<Pos> {
         let here = self.now();
         let mut end = before;
         let mut found = None;
-        while end > 0 && found.is_none() {
+        while end > Pos::default() && found.is_none() {
             let i = self
                 .checkpoints
-                .partition_point(|c| c.ticks() < end)
+                .partition_point(|c| c.pos() < end)
                 .saturating_sub(1);
-            let start = self.checkpoints[i].ticks();
+            let start = self.checkpoints[i].pos();
             self.restore(i);
             self.forward(end, |m| {
-                if m.ticks() < end && wanted(m) {
-                    found = Some(m.ticks());
+                if m.pos() < end && wanted(m) {
+                    found = Some(m.pos());
                 }
                 false
             });
-            if start == 0 {
+            if start == Pos::default() {
                 break;
             }
             end = start;
@@ -208,31 +257,48 @@ impl Timeline {
         found
     }
 
-    /// A user edit at the current tick. Returns true when it discarded a recorded future.
-    pub fn edit(&mut self, edit: Edit) -> bool {
+    /// A user edit at the current position. Returns whether it discarded a recorded future;
+    /// a refused edit changes nothing.
+    pub fn edit(&mut self, loc: Loc, change: Change) -> Result<bool, WriteError> {
         let now = self.now();
+        let event = UserEvent {
+            at: now,
+            loc,
+            change,
+        };
+        let mut probe = self.machine.clone();
+        event.apply(&mut probe)?;
         let discarded = now < self.furthest;
         if discarded {
-            self.checkpoints.retain(|c| c.ticks() <= now);
-            self.events.retain(|e| e.tick <= now);
-            self.marks.retain(|m| m.tick <= now);
-            self.trace.truncate_after(now);
+            self.checkpoints.retain(|c| c.pos() <= now);
+            self.events.retain(|e| e.at <= now);
+            self.marks.retain(|m| m.at <= now);
+            self.trace.truncate_after(now.tick);
             self.furthest = now;
         }
         self.next_event = self.events.len();
-        self.events.push(UserEvent { tick: now, edit });
-        self.apply_due_events();
-        discarded
+        self.events.push(event);
+        apply_due(&mut self.machine, &self.events, &mut self.next_event);
+        self.record_now();
+        Ok(discarded)
     }
 
     pub fn mark(&mut self, kind: MarkKind, line: usize) {
         self.mark_at(self.now(), kind, line);
     }
 
-    pub fn mark_at(&mut self, tick: u64, kind: MarkKind, line: usize) {
-        if !self.marks.iter().any(|m| m.tick == tick && m.kind == kind) {
-            self.marks.push(Mark { tick, kind, line });
-            self.marks.sort_by_key(|m| m.tick);
+    pub fn mark_at(&mut self, at: Pos, kind: MarkKind, line: usize) {
+        if !self.marks.iter().any(|m| m.at == at && m.kind == kind) {
+            self.marks.push(Mark { at, kind, line });
+            self.marks.sort_by_key(|m| m.at);
         }
+    }
+}
+
+/// The channels' values as the trace stores them (sign-extended where the location is signed).
+#[inline]
+fn sample<M: MachineView>(m: &M, channels: &[Channel], out: &mut [i64]) {
+    for (slot, c) in out.iter_mut().zip(channels) {
+        *slot = c.value(m.read(c.loc));
     }
 }

@@ -1,22 +1,28 @@
-//! Run control over a machine: the program text and its assembly, breakpoints, stepping
-//! forward and back, running at a chosen speed in bounded slices, pausing, resetting, going to
-//! any tick, and user edits that become part of the replayable timeline.
+//! Run control over a machine of any dialect: the program text and its assembly, breakpoints,
+//! stepping forward and back, running at a chosen speed in bounded slices, pausing, resetting,
+//! going to any position, and user edits that become part of the replayable timeline.
+//!
+//! The debugger holds the machine behind [`Engine`] (dynamic dispatch once per action or frame
+//! slice); the loops inside run on the concrete machine type.
 //!
 //! No egui here: everything the GUI can do is a method a unit test can call. The GUI calls
 //! [`Debugger::advance`] once per frame with a time budget, so a run never blocks a frame.
 
-pub mod format;
+pub mod engine;
 pub mod history;
 pub mod trace;
 
 use std::collections::BTreeSet;
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use crate::machine::silverlode::{ServoSettings, SilverLode, assemble};
-use crate::machine::{Diagnostic, Machine, RunState, StopReason};
-use history::{Edit, Mark, MarkKind, Timeline, UserEvent};
-use trace::Trace;
+pub use engine::{Engine, StopWhen, engine};
+
+use crate::machine::registry::{self, Dialect, Settings};
+use crate::machine::{
+    Diagnostic, Loc, MachineView, Pos, RunState, SpaceKind, StopReason, value,
+};
+use history::{Change, Mark, MarkKind, UserEvent};
+use trace::{Channel, MAX_CHANNELS, Trace};
 
 /// Ticks run between two looks at the clock while running unlimited.
 const CHUNK_TICKS: u64 = 20_000;
@@ -112,14 +118,16 @@ impl Event {
 }
 
 pub struct Debugger {
+    dialect: &'static Dialect,
     name: String,
     source: String,
     /// The text the current program was assembled from.
     assembled_source: String,
     diagnostics: Vec<Diagnostic>,
-    settings: ServoSettings,
-    initial: SilverLode,
-    timeline: Timeline,
+    settings: Settings,
+    engine: Box<dyn Engine>,
+    /// The plot channels by location name (resolved against each assembled program).
+    channel_names: Vec<ChannelChoice>,
     breakpoints: BTreeSet<usize>,
     goal: Option<Goal>,
     /// Skip the breakpoint on the current line once (resuming from it).
@@ -130,19 +138,76 @@ pub struct Debugger {
     event: Option<Event>,
 }
 
+/// A plot channel as the user chose it: a location name, a legend and a plot group.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct ChannelChoice {
+    pub location: String,
+    #[serde(default)]
+    pub label: String,
+    #[serde(default)]
+    pub group: u8,
+}
+
+impl ChannelChoice {
+    pub fn defaults(dialect: &Dialect) -> Vec<ChannelChoice> {
+        dialect
+            .default_channels
+            .iter()
+            .map(|c| ChannelChoice {
+                location: c.location.to_string(),
+                label: c.label.to_string(),
+                group: c.group,
+            })
+            .collect()
+    }
+}
+
+/// An empty program of `dialect`, for the moments before anything assembles.
+fn empty_engine(dialect: &Dialect, settings: &Settings) -> Box<dyn Engine> {
+    match (dialect.open)("", settings) {
+        Ok(engine) => engine,
+        // Every dialect accepts the empty program; fall back to the default one's if not.
+        Err(_) => (registry::default_dialect().open)("", settings)
+            .unwrap_or_else(|_| unreachable!("the default dialect accepts an empty program")),
+    }
+}
+
+/// Why a typed value was not stored.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum EditError {
+    #[error("there is no location named '{0}'")]
+    Unknown(String),
+    #[error("{0}")]
+    Value(String),
+    #[error(transparent)]
+    Refused(#[from] crate::machine::WriteError),
+    #[error("fix the program's errors first: edits apply to a running program")]
+    NotAssembled,
+}
+
 impl Debugger {
-    /// A debugger on `source`. If it does not assemble, the diagnostics are kept and nothing
-    /// runs until the text is fixed.
+    /// A debugger on `source` in the default dialect (SilverLode).
     pub fn new(name: impl Into<String>, source: impl Into<String>) -> Self {
-        let empty = SilverLode::new(crate::machine::silverlode::Program::empty());
+        Debugger::with_dialect(registry::default_dialect(), name, source)
+    }
+
+    /// A debugger on `source` in `dialect`. If it does not assemble, the diagnostics are kept
+    /// and nothing runs until the text is fixed.
+    pub fn with_dialect(
+        dialect: &'static Dialect,
+        name: impl Into<String>,
+        source: impl Into<String>,
+    ) -> Self {
+        let settings = dialect.default_settings();
         let mut d = Debugger {
+            dialect,
             name: name.into(),
             source: source.into(),
             assembled_source: String::new(),
             diagnostics: Vec::new(),
-            settings: ServoSettings::default(),
-            initial: empty.clone(),
-            timeline: Timeline::new(empty, Vec::new()),
+            engine: empty_engine(dialect, &settings),
+            settings,
+            channel_names: ChannelChoice::defaults(dialect),
             breakpoints: BTreeSet::new(),
             goal: None,
             resume_past_breakpoint: false,
@@ -154,28 +219,33 @@ impl Debugger {
         d
     }
 
-    /// A debugger restored to `tick` of a recorded run: the program, its settings, its
-    /// breakpoints and its timeline of user events (some may lie after `tick`).
+    /// A debugger restored to `at` of a recorded run: the program, its settings, breakpoints,
+    /// plot channels and timeline of user events (some may lie after `at`), replayed to
+    /// `furthest` so the history is there to go back to.
+    #[allow(clippy::too_many_arguments)]
     pub fn restore(
+        dialect: &'static Dialect,
         name: impl Into<String>,
         source: impl Into<String>,
-        settings: ServoSettings,
+        settings: &Settings,
         breakpoints: impl IntoIterator<Item = usize>,
+        channels: Option<Vec<ChannelChoice>>,
         events: Vec<UserEvent>,
-        tick: u64,
+        furthest: Pos,
     ) -> Result<Debugger, Vec<Diagnostic>> {
         let source = source.into();
-        let program = assemble(&source)?;
-        let settings = settings.clamped();
-        let initial = SilverLode::with_settings(Arc::new(program), settings);
-        let mut timeline = Timeline::new(initial.clone(), events);
-        timeline.forward(tick, |_| false);
-        let mut d = Debugger::new(name, "");
+        let settings = dialect.settings_from(settings);
+        let engine = (dialect.open)(&source, &settings)?;
+        let mut d = Debugger::with_dialect(dialect, name, "");
         d.assembled_source = source.clone();
         d.source = source;
         d.settings = settings;
-        d.initial = initial;
-        d.timeline = timeline;
+        if let Some(channels) = channels {
+            d.channel_names = channels;
+        }
+        let channels = d.resolve_channels(engine.machine());
+        d.engine = engine.restarted(events, channels);
+        d.engine.forward(furthest, &StopWhen::default());
         d.set_breakpoints(breakpoints);
         d.event = None;
         Ok(d)
@@ -202,8 +272,19 @@ impl Debugger {
     pub fn has_errors(&self) -> bool {
         !self.diagnostics.is_empty()
     }
-    pub fn machine(&self) -> &SilverLode {
-        &self.timeline.machine
+    pub fn machine(&self) -> &dyn MachineView {
+        self.engine.machine()
+    }
+    /// The machine as its concrete type, for a dialect's own panels and tests.
+    pub fn machine_as<T: 'static>(&self) -> Option<&T> {
+        self.machine().as_any().downcast_ref()
+    }
+    pub fn dialect(&self) -> &'static Dialect {
+        self.dialect
+    }
+    /// Where the machine is now.
+    pub fn pos(&self) -> Pos {
+        self.machine().pos()
     }
     pub fn breakpoints(&self) -> &BTreeSet<usize> {
         &self.breakpoints
@@ -220,54 +301,126 @@ impl Debugger {
     pub fn event(&self) -> Option<&Event> {
         self.event.as_ref()
     }
-    pub fn settings(&self) -> ServoSettings {
-        self.settings
+    pub fn settings(&self) -> &Settings {
+        &self.settings
     }
-    /// Registers the program's text mentions.
-    pub fn used_registers(&self) -> &[u8] {
-        &self.machine().program().used_registers
-    }
-    /// The motion trace since the last reset.
+    /// The trace of the plot channels since the last reset.
     pub fn trace(&self) -> &Trace {
-        &self.timeline.trace
+        self.engine.trace()
     }
-    /// The furthest tick reached: the timeline spans 0 ..= this.
+    /// The channels the trace records, resolved.
+    pub fn channels(&self) -> &[Channel] {
+        self.engine.channels()
+    }
+    /// The channels as chosen (names may not exist in the current program).
+    pub fn channel_choices(&self) -> &[ChannelChoice] {
+        &self.channel_names
+    }
+    /// The furthest position reached: the timeline spans the start ..= this.
+    pub fn furthest(&self) -> Pos {
+        self.engine.furthest()
+    }
+    /// The furthest tick reached.
     pub fn furthest_tick(&self) -> u64 {
-        self.timeline.furthest()
+        self.furthest().tick
     }
-    /// Every input switch and edit, with its tick.
+    /// Every input switch and edit, with its position.
     pub fn events(&self) -> &[UserEvent] {
-        self.timeline.events()
+        self.engine.events()
     }
     /// Breakpoint hits and faults on the timeline.
     pub fn marks(&self) -> &[Mark] {
-        self.timeline.marks()
+        self.engine.marks()
     }
     /// Put back the marks of a saved session.
-    pub fn restore_marks(&mut self, marks: impl IntoIterator<Item = (u64, MarkKind, usize)>) {
-        for (tick, kind, line) in marks {
-            self.timeline.mark_at(tick, kind, line);
+    pub fn restore_marks(&mut self, marks: impl IntoIterator<Item = (Pos, MarkKind, usize)>) {
+        for (at, kind, line) in marks {
+            self.engine.mark_at(at, kind, line);
         }
     }
 
     /// Bytes the history holds (checkpoints, events, trace).
     pub fn history_bytes(&self) -> usize {
-        self.timeline.memory_bytes()
+        self.engine.memory_bytes()
     }
 
     /// Write the trace as CSV (one row per tick where a value changed), atomically.
     /// Returns the number of rows.
     pub fn export_trace_csv(&self, path: &std::path::Path) -> std::io::Result<usize> {
         let micros = self.machine().tick_micros();
-        let trace = &self.timeline.trace;
-        crate::atomic::write_atomically(path, |w| trace.write_csv(w, micros))?;
+        let trace = self.engine.trace();
+        let names: Vec<String> = self.channels().iter().map(|c| c.label.clone()).collect();
+        crate::atomic::write_atomically(path, |w| trace.write_csv(w, micros, &names))?;
         Ok(trace.len())
+    }
+
+    /// The location named `name` in the current machine.
+    pub fn find(&self, name: &str) -> Option<Loc> {
+        self.machine().find(name)
+    }
+
+    fn resolve_channels(&self, m: &dyn MachineView) -> Vec<Channel> {
+        self.channel_names
+            .iter()
+            .filter_map(|c| {
+                let loc = m.find(&c.location)?;
+                let info = m.info(loc)?;
+                Some(Channel {
+                    loc,
+                    label: if c.label.is_empty() {
+                        info.name.clone()
+                    } else {
+                        c.label.clone()
+                    },
+                    name: info.name,
+                    width: info.width,
+                    signed: info.signed,
+                    group: c.group,
+                })
+            })
+            .take(MAX_CHANNELS)
+            .collect()
+    }
+
+    /// Choose the plot channels. The trace is rebuilt by replaying the recorded history.
+    pub fn set_channels(&mut self, channels: Vec<ChannelChoice>) {
+        self.channel_names = channels;
+        self.channel_names.truncate(MAX_CHANNELS);
+        let here = self.pos();
+        let furthest = self.furthest();
+        let resolved = self.resolve_channels(self.engine.machine());
+        let marks: Vec<Mark> = self.marks().to_vec();
+        let mut engine = self.engine.restarted(self.events().to_vec(), resolved);
+        engine.forward(furthest, &StopWhen::default());
+        for m in marks {
+            engine.mark_at(m.at, m.kind, m.line);
+        }
+        engine.goto(here);
+        self.engine = engine;
     }
 
     // ---- program ---------------------------------------------------------------------------
 
     /// Replace the whole program (File → Open). Breakpoints are cleared.
     pub fn load(&mut self, name: impl Into<String>, source: impl Into<String>) {
+        let dialect = self.dialect;
+        self.load_as(dialect, name, source);
+    }
+
+    /// Replace the whole program with one in `dialect`. Breakpoints are cleared; the settings
+    /// and plot channels become the dialect's defaults when the dialect changes.
+    pub fn load_as(
+        &mut self,
+        dialect: &'static Dialect,
+        name: impl Into<String>,
+        source: impl Into<String>,
+    ) {
+        if dialect != self.dialect {
+            self.dialect = dialect;
+            self.settings = dialect.default_settings();
+            self.channel_names = ChannelChoice::defaults(dialect);
+            self.engine = empty_engine(dialect, &self.settings);
+        }
         self.name = name.into();
         self.source = source.into();
         self.assembled_source.clear();
@@ -275,16 +428,31 @@ impl Debugger {
         self.assemble();
     }
 
-    /// A new timeline at tick 0 on `initial`, with the inputs at their current levels.
-    fn restart(&mut self) {
-        let events = (0..3)
-            .filter(|&i| self.machine().input(i))
-            .map(|input| UserEvent {
-                tick: 0,
-                edit: Edit::Input { input, high: true },
+    /// Every input location and its level now.
+    fn input_levels(m: &dyn MachineView) -> Vec<(Loc, u64)> {
+        m.spaces()
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.kind == SpaceKind::Inputs)
+            .flat_map(|(i, s)| (0..s.len).map(move |index| Loc::new(i as u8, index)))
+            .map(|loc| (loc, m.read(loc)))
+            .filter(|&(_, v)| v != 0)
+            .collect()
+    }
+
+    /// A new timeline at the start of the current program, with the inputs at these levels.
+    fn restart_with_inputs(&mut self, inputs: Vec<(Loc, u64)>) {
+        let events = inputs
+            .into_iter()
+            .filter(|(loc, _)| self.engine.machine().info(*loc).is_some())
+            .map(|(loc, v)| UserEvent {
+                at: Pos::default(),
+                loc,
+                change: Change::Set(v),
             })
             .collect();
-        self.timeline = Timeline::new(self.initial.clone(), events);
+        let channels = self.resolve_channels(self.engine.machine());
+        self.engine = self.engine.restarted(events, channels);
         self.goal = None;
     }
 
@@ -293,12 +461,13 @@ impl Debugger {
     /// old state stays on screen, but nothing runs.
     pub fn assemble(&mut self) -> bool {
         self.goal = None;
-        match assemble(&self.source) {
-            Ok(program) => {
+        match (self.dialect.open)(&self.source, &self.settings) {
+            Ok(engine) => {
                 let moved = remap_lines(&self.assembled_source, &self.source, &self.breakpoints);
                 self.breakpoints = moved;
-                self.initial = SilverLode::with_settings(Arc::new(program), self.settings);
-                self.restart();
+                let inputs = Self::input_levels(self.engine.machine());
+                self.engine = engine;
+                self.restart_with_inputs(inputs);
                 self.assembled_source = self.source.clone();
                 self.diagnostics.clear();
                 self.event = Some(Event::Assembled);
@@ -322,33 +491,33 @@ impl Debugger {
 
     // ---- run control -----------------------------------------------------------------------
 
-    /// Execute one command (F10). A command that waits long continues over later frames.
+    /// Execute one instruction (F10). One that waits long continues over later frames.
     pub fn step_command(&mut self) {
         if !self.ready() || !self.live() {
             return;
         }
         self.goal = None;
-        let start = self.machine().ticks();
-        let reason = self
-            .timeline
-            .forward(start.saturating_add(STEP_TICKS_AT_ONCE), |m| {
-                m.ticks() > start
-            });
-        if reason == StopReason::TickLimit {
+        let start = self.pos();
+        let limit = Pos::at_tick(start.tick.saturating_add(STEP_TICKS_AT_ONCE));
+        let stop = StopWhen {
+            after: Some(start),
+            ..StopWhen::default()
+        };
+        if self.engine.forward(limit, &stop) == StopReason::TickLimit {
             self.goal = Some(Goal::FinishStep);
         } else {
             self.after_stop(Event::Stepped);
         }
     }
 
-    /// Advance one tick (F11).
+    /// Advance to the end of the current tick (F11): one tick, or the rest of the scan.
     pub fn step_tick(&mut self) {
         if !self.ready() || !self.live() {
             return;
         }
         self.goal = None;
-        let now = self.machine().ticks();
-        self.timeline.forward(now + 1, |_| false);
+        let next = Pos::at_tick(self.pos().tick + 1);
+        self.engine.forward(next, &StopWhen::default());
         self.after_stop(Event::Stepped);
     }
 
@@ -357,7 +526,7 @@ impl Debugger {
         self.start(Goal::Continue);
     }
 
-    /// Run until the command on `line` is about to execute (Ctrl+F10).
+    /// Run until the instruction on `line` is about to execute (Ctrl+F10).
     pub fn run_to_line(&mut self, line: usize) {
         self.start(Goal::ToLine(line));
     }
@@ -386,7 +555,8 @@ impl Debugger {
         if self.is_edited() || self.has_errors() {
             self.assemble();
         } else {
-            self.restart();
+            let inputs = Self::input_levels(self.machine());
+            self.restart_with_inputs(inputs);
         }
         self.event = Some(Event::Reset);
     }
@@ -413,7 +583,7 @@ impl Debugger {
             RunState::Ended => Event::Ended,
             RunState::Faulted => {
                 let line = self.machine().fault().map_or(0, |f| f.line);
-                self.timeline.mark(MarkKind::Fault, line);
+                self.engine.mark(MarkKind::Fault, line);
                 Event::Faulted
             }
             _ => otherwise,
@@ -443,38 +613,58 @@ impl Debugger {
                 whole as u64
             }
         };
-        let bps = self.breakpoint_table();
+        let table = self.breakpoint_table();
+        let line = match goal {
+            Goal::ToLine(l) => Some(l),
+            _ => None,
+        };
         while commands > 0 {
             let skip = std::mem::take(&mut self.resume_past_breakpoint);
-            let now = self.machine().ticks();
+            let now = self.pos();
+            let chunk = Pos::at_tick(now.tick.saturating_add(CHUNK_TICKS));
             let reason = match goal {
-                // Mid-command, the next command boundary ends the step; at one, it is over.
+                // Mid-instruction, the next boundary ends the step; at one, it is over.
                 Goal::FinishStep if self.machine().run_state() == RunState::Running => {
                     StopReason::Predicate
                 }
-                Goal::FinishStep => self.timeline.forward(now + CHUNK_TICKS, |_| true),
-                Goal::ToTick(t) => match self.timeline.forward(t.min(now + CHUNK_TICKS), |_| false)
-                {
-                    StopReason::TickLimit if self.machine().ticks() >= t => StopReason::Predicate,
-                    other => other,
-                },
-                _ if commands == u64::MAX => {
-                    let mut first = skip;
-                    self.timeline.forward(now + CHUNK_TICKS, |m| {
-                        let stop = !first && stops_at(&bps, goal, m.pc_line());
-                        first = false;
-                        stop
-                    })
+                Goal::FinishStep => self.engine.forward(
+                    chunk,
+                    &StopWhen {
+                        any: true,
+                        ..StopWhen::default()
+                    },
+                ),
+                Goal::ToTick(t) => {
+                    match self.engine.forward(chunk.min(Pos::at_tick(t)), &StopWhen::default()) {
+                        StopReason::TickLimit if self.pos().tick >= t => StopReason::Predicate,
+                        other => other,
+                    }
                 }
+                _ if commands == u64::MAX => self.engine.forward(
+                    chunk,
+                    &StopWhen {
+                        breakpoints: &table,
+                        line,
+                        skip_first: skip,
+                        ..StopWhen::default()
+                    },
+                ),
                 _ => {
-                    if !skip && stops_at(&bps, goal, self.machine().pc_line()) {
+                    let at_stop = StopWhen {
+                        breakpoints: &table,
+                        line,
+                        ..StopWhen::default()
+                    };
+                    if !skip && at_stop.holds(self.machine()) {
                         StopReason::Predicate
                     } else {
                         commands -= 1;
-                        match self
-                            .timeline
-                            .forward(now + STEP_TICKS_AT_ONCE, |m| m.ticks() > now)
-                        {
+                        let one = StopWhen {
+                            after: Some(now),
+                            ..StopWhen::default()
+                        };
+                        let limit = Pos::at_tick(now.tick.saturating_add(STEP_TICKS_AT_ONCE));
+                        match self.engine.forward(limit, &one) {
                             StopReason::Predicate => StopReason::TickLimit,
                             other => other,
                         }
@@ -494,7 +684,7 @@ impl Debugger {
                         Goal::ToTick(t) => Event::ReachedTick(t),
                         Goal::ToLine(l) if l == line => Event::ReachedLine(line),
                         _ => {
-                            self.timeline.mark(MarkKind::Breakpoint, line);
+                            self.engine.mark(MarkKind::Breakpoint, line);
                             Event::Breakpoint(line)
                         }
                     });
@@ -521,58 +711,80 @@ impl Debugger {
 
     // ---- time travel -----------------------------------------------------------------------
 
-    /// Go to any tick. Within the recorded timeline this is a replay from the nearest
-    /// checkpoint; beyond it the program runs there over the next frames.
+    /// Go to any tick (its start). Within the recorded timeline this is a replay from the
+    /// nearest checkpoint; beyond it the program runs there over the next frames.
     pub fn goto_tick(&mut self, tick: u64) {
+        self.goto(Pos::at_tick(tick));
+    }
+
+    /// Go to any position, inside a tick too.
+    pub fn goto(&mut self, pos: Pos) {
         self.goal = None;
         if self.has_errors() || self.is_edited() {
             return;
         }
-        if tick <= self.furthest_tick() {
-            self.timeline.goto(tick);
-            self.event = Some(Event::ReachedTick(self.machine().ticks()));
-        } else if self.machine().run_state().is_live()
-            || self.machine().ticks() < self.furthest_tick()
-        {
-            self.timeline.goto(self.furthest_tick());
-            self.goal = Some(Goal::ToTick(tick));
+        if pos <= self.furthest() {
+            self.engine.goto(pos);
+            self.event = Some(Event::ReachedTick(self.pos().tick));
+        } else if self.machine().run_state().is_live() || self.pos() < self.furthest() {
+            self.engine.goto(self.furthest());
+            if pos.step == 0 {
+                self.goal = Some(Goal::ToTick(pos.tick));
+            } else {
+                // Inside a tick beyond the history: short, so at once.
+                self.engine.forward(pos, &StopWhen::default());
+                self.event = Some(Event::ReachedTick(self.pos().tick));
+            }
         }
     }
 
-    /// Back one tick (Shift+F11).
+    /// Back to the start of the current tick, or of the previous one when already at a start
+    /// (Shift+F11).
     pub fn step_back_tick(&mut self) {
-        let now = self.machine().ticks();
-        if now > 0 && !self.is_edited() {
-            self.goal = None;
-            self.timeline.goto(now - 1);
-            self.event = Some(Event::SteppedBack);
-        }
-    }
-
-    /// Back to where the last command started (Shift+F10).
-    pub fn step_back_command(&mut self) {
-        let now = self.machine().ticks();
-        if now == 0 || self.is_edited() {
+        let now = self.pos();
+        if now == Pos::default() || self.is_edited() {
             return;
         }
         self.goal = None;
-        let start = self.timeline.find_back(now, |_| true).unwrap_or(0);
-        self.timeline.goto(start);
+        let to = if now.step > 0 {
+            Pos::at_tick(now.tick)
+        } else {
+            Pos::at_tick(now.tick - 1)
+        };
+        self.engine.goto(to);
+        self.event = Some(Event::SteppedBack);
+    }
+
+    /// Back to where the last instruction started (Shift+F10).
+    pub fn step_back_command(&mut self) {
+        let now = self.pos();
+        if now == Pos::default() || self.is_edited() {
+            return;
+        }
+        self.goal = None;
+        let any = StopWhen {
+            any: true,
+            ..StopWhen::default()
+        };
+        let start = self.engine.find_back(now, &any).unwrap_or_default();
+        self.engine.goto(start);
         self.event = Some(Event::SteppedBack);
     }
 
     /// Back to the last time a breakpoint was about to run, or the start (Shift+F5).
     pub fn reverse_continue(&mut self) {
-        let now = self.machine().ticks();
-        if now == 0 || self.is_edited() {
+        let now = self.pos();
+        if now == Pos::default() || self.is_edited() {
             return;
         }
         self.goal = None;
-        let bps = self.breakpoint_table();
-        let hit = self
-            .timeline
-            .find_back(now, |m| stops_at(&bps, Goal::Continue, m.pc_line()));
-        self.timeline.goto(hit.unwrap_or(0));
+        let table = self.breakpoint_table();
+        let at_breakpoint = StopWhen {
+            breakpoints: &table,
+            ..StopWhen::default()
+        };
+        let hit = self.engine.find_back(now, &at_breakpoint);
+        self.engine.goto(hit.unwrap_or_default());
         self.event = Some(match hit {
             Some(_) => Event::Breakpoint(self.machine().pc_line().unwrap_or(0)),
             None => Event::NoEarlierBreakpoint,
@@ -600,71 +812,70 @@ impl Debugger {
 
     // ---- edits -----------------------------------------------------------------------------
 
-    fn edit(&mut self, edit: Edit) {
-        let tick = self.machine().ticks();
-        if self.timeline.edit(edit) {
-            self.event = Some(Event::FutureDiscarded(tick));
+    /// Change a location now; the edit becomes part of the timeline. A refused edit changes
+    /// nothing.
+    pub fn edit(&mut self, loc: Loc, change: Change) -> Result<(), EditError> {
+        if self.has_errors() {
+            return Err(EditError::NotAssembled);
         }
+        let at = self.pos();
+        if self.engine.edit(loc, change)? {
+            self.event = Some(Event::FutureDiscarded(at.tick));
+        }
+        Ok(())
     }
 
-    pub fn set_register(&mut self, index: usize, value: u32) {
-        if index < self.machine().register_count() {
-            self.edit(Edit::Register {
-                register: index,
-                value,
-            });
-        }
+    /// Store a raw value in a location.
+    pub fn set_value(&mut self, loc: Loc, value: u64) -> Result<(), EditError> {
+        self.edit(loc, Change::Set(value))
     }
 
-    /// Parse what the user typed and store it. On error nothing changes.
-    pub fn set_register_text(&mut self, index: usize, text: &str) -> Result<u32, String> {
-        if index >= self.machine().register_count() {
-            return Err(format!("there is no register R{index}"));
-        }
-        let value = format::parse_value(text)?;
-        self.set_register(index, value);
+    /// Parse what the user typed for the location named `name` and store it. On error nothing
+    /// changes.
+    pub fn set_text(&mut self, name: &str, text: &str) -> Result<u64, EditError> {
+        let loc = self
+            .find(name)
+            .ok_or_else(|| EditError::Unknown(name.to_string()))?;
+        self.set_loc_text(loc, text)
+    }
+
+    /// Parse what the user typed for `loc` (at its width) and store it.
+    pub fn set_loc_text(&mut self, loc: Loc, text: &str) -> Result<u64, EditError> {
+        let info = self
+            .machine()
+            .info(loc)
+            .ok_or_else(|| EditError::Unknown(format!("{loc:?}")))?;
+        let value = value::parse_value(text, info.width).map_err(EditError::Value)?;
+        self.set_value(loc, value)?;
         Ok(value)
     }
 
-    pub fn toggle_register_bit(&mut self, index: usize, bit: u8) {
-        if bit < 32 {
-            let value = self.machine().register(index) ^ (1 << bit);
-            self.set_register(index, value);
-        }
+    /// Flip one bit of a location.
+    pub fn toggle_bit(&mut self, loc: Loc, bit: u8) -> Result<(), EditError> {
+        let on = self.machine().read(loc) >> bit & 1 == 0;
+        self.edit(loc, Change::Bit { bit, on })
     }
 
-    /// Set a status bit by hand; false (and nothing recorded) when that bit is not editable.
-    pub fn set_status_bit(&mut self, word: &str, bit: u8, on: bool) -> bool {
-        let mut probe = self.machine().clone();
-        if !probe.set_status_bit(word, bit, on) {
-            return false;
-        }
-        self.edit(Edit::StatusBit {
-            word: word.to_string(),
-            bit,
-            on,
-        });
-        true
+    /// Set one bit of a location.
+    pub fn set_bit(&mut self, loc: Loc, bit: u8, on: bool) -> Result<(), EditError> {
+        self.edit(loc, Change::Bit { bit, on })
     }
 
-    pub fn set_input(&mut self, index: usize, high: bool) {
-        if index < self.machine().input_count() && self.machine().input(index) != high {
-            self.edit(Edit::Input { input: index, high });
+    /// Switch an input (any 1-bit location) high or low; nothing is recorded when it already
+    /// is.
+    pub fn set_input(&mut self, loc: Loc, high: bool) -> Result<(), EditError> {
+        if (self.machine().read(loc) != 0) == high {
+            return Ok(());
         }
+        self.set_value(loc, u64::from(high))
     }
 
-    pub fn set_settings(&mut self, settings: ServoSettings) {
-        self.settings = settings.clamped();
+    /// The dialect's settings; applying them restarts the program.
+    pub fn set_settings(&mut self, settings: &Settings) {
+        self.settings = self.dialect.settings_from(settings);
         self.assembled_source.clear();
         self.assemble();
     }
-}
-
-fn stops_at(breakpoints: &[bool], goal: Goal, line: Option<usize>) -> bool {
-    let Some(line) = line else {
-        return false;
-    };
-    breakpoints.get(line).copied().unwrap_or(false) || goal == Goal::ToLine(line)
 }
 
 /// Move 1-based line numbers from `old` text to `new` text: lines in the unchanged head stay,
@@ -711,6 +922,10 @@ pub fn remap_lines(old: &str, new: &str, lines: &BTreeSet<usize>) -> BTreeSet<us
 mod tests {
     use super::*;
 
+    fn reg(d: &Debugger, r: u32) -> i32 {
+        d.machine().read(Loc::new(0, r)) as u32 as i32
+    }
+
     const LOOP: &str = "WRP 11, 3\nloop: CLC INC, 12\nCLC DEC, 11\nJMP loop, !ZERO\nEND\n";
 
     #[test]
@@ -733,16 +948,16 @@ mod tests {
         d.run();
         assert!(!d.advance(0.016, Duration::from_millis(50)));
         assert_eq!(d.event(), Some(&Event::Breakpoint(2)));
-        assert_eq!(d.machine().reg(12), 0, "stopped before line 2 ran");
+        assert_eq!(reg(&d, 12), 0, "stopped before line 2 ran");
         d.run();
         d.advance(0.016, Duration::from_millis(50));
         assert_eq!(d.event(), Some(&Event::Breakpoint(2)));
-        assert_eq!(d.machine().reg(12), 1, "one round later");
+        assert_eq!(reg(&d, 12), 1, "one round later");
         d.toggle_breakpoint(2);
         d.run();
         d.advance(0.016, Duration::from_millis(50));
         assert_eq!(d.event(), Some(&Event::Ended));
-        assert_eq!(d.machine().reg(12), 3);
+        assert_eq!(reg(&d, 12), 3);
     }
 
     #[test]
@@ -773,11 +988,13 @@ mod tests {
         d.advance(0.0, Duration::from_millis(50));
         assert_eq!(d.event(), Some(&Event::ReachedLine(5)));
         assert_eq!(d.machine().pc_line(), Some(5));
-        d.set_input(1, true);
+        let io2 = d.find("IO2").expect("SilverLode has IO2");
+        d.set_input(io2, true).expect("inputs can be switched");
         d.reset();
         assert_eq!(d.machine().ticks(), 0);
-        assert!(
-            d.machine().input(1),
+        assert_eq!(
+            d.machine().read(io2),
+            1,
             "inputs keep their levels across a reset"
         );
     }
@@ -820,18 +1037,21 @@ mod tests {
         assert_eq!(d.event(), Some(&Event::NotAssembled(1)));
         *d.source_mut() = "WRP 11, 1\nEND".to_string();
         d.step_command();
-        assert_eq!(d.machine().reg(11), 1, "edits assemble on the next step");
+        assert_eq!(reg(&d, 11), 1, "edits assemble on the next step");
         assert!(d.diagnostics().is_empty());
     }
 
     #[test]
     fn register_edits_parse_or_change_nothing() {
         let mut d = Debugger::new("p", "END");
-        assert_eq!(d.set_register_text(20, "0x10"), Ok(16));
-        assert!(d.set_register_text(20, "banana").is_err());
-        assert_eq!(d.machine().reg(20), 16);
-        d.toggle_register_bit(20, 0);
-        assert_eq!(d.machine().reg(20), 17);
-        assert!(d.set_register_text(200, "1").is_err());
+        assert_eq!(d.set_text("R20", "0x10"), Ok(16));
+        assert!(d.set_text("R20", "banana").is_err());
+        assert_eq!(reg(&d, 20), 16);
+        let r20 = d.find("r20").expect("R20 exists");
+        d.toggle_bit(r20, 0).expect("a register bit flips");
+        assert_eq!(reg(&d, 20), 17);
+        assert!(matches!(d.set_text("R200", "1"), Err(EditError::Unknown(_))));
+        assert!(d.set_text("R20", "0x1_0000_0000").is_err(), "wider than 32 bits");
+        assert_eq!(reg(&d, 20), 17, "refused edits change nothing");
     }
 }

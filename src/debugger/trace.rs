@@ -1,9 +1,9 @@
-//! The motion trace that plots read: target (R0), actual (R1), error (R6) and velocity (R7)
-//! for every tick.
+//! The trace that plots read: the values of the chosen channels (locations, at most
+//! [`MAX_CHANNELS`]) for every tick.
 //!
-//! Stored as change points: a sample is kept only for a tick where one of the four values
-//! changed, and holds until the next sample. An idle motor costs nothing; a moving one about
-//! 24 bytes a tick. Every [`BLOCK`] samples also get a min/max summary, so the min/max of any
+//! Stored as change points: a sample is kept only for a tick where one of the values changed,
+//! and holds until the next sample. An idle motor costs nothing; a moving one about 8 bytes per
+//! channel a tick. Every [`BLOCK`] samples also get a min/max summary, so the min/max of any
 //! column of a plot is found from a few summaries plus the partial blocks at its edges:
 //! decimating millions of samples to a plot's width takes well under a millisecond.
 //!
@@ -13,62 +13,64 @@
 
 use std::ops::Range;
 
+use crate::machine::Loc;
+use crate::machine::value::sign_extend;
+
 pub const BLOCK: usize = 256;
 pub const DEFAULT_CAPACITY: usize = 16 << 20;
+/// Channels a trace records at most.
+pub const MAX_CHANNELS: usize = 8;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-pub enum Series {
-    Target,
-    Actual,
-    Error,
-    Velocity,
+/// One recorded location: where it is, how to read it and how the plot calls it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Channel {
+    pub loc: Loc,
+    /// The location's name (sessions store channels by name).
+    pub name: String,
+    pub label: String,
+    pub width: u8,
+    pub signed: bool,
+    /// Channels of the same group share a plot.
+    pub group: u8,
 }
 
-impl Series {
-    pub const ALL: [Series; 4] = [
-        Series::Target,
-        Series::Actual,
-        Series::Error,
-        Series::Velocity,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Series::Target => "target (R0)",
-            Series::Actual => "actual (R1)",
-            Series::Error => "error (R6)",
-            Series::Velocity => "velocity (R7)",
+impl Channel {
+    /// The stored number for raw bits of this location.
+    #[inline]
+    pub fn value(&self, raw: u64) -> i64 {
+        if self.signed {
+            sign_extend(raw, self.width)
+        } else {
+            (raw & crate::machine::value::mask(self.width)) as i64
         }
     }
-
-    fn index(self) -> usize {
-        self as usize
-    }
 }
 
-/// The four values at one tick.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+/// The channels' values at one tick.
+#[derive(Clone, Debug, PartialEq, Eq, Default)]
 pub struct Sample {
     pub tick: u64,
-    pub values: [i32; 4],
+    pub values: Vec<i64>,
 }
 
 impl Sample {
-    pub fn get(&self, s: Series) -> i32 {
-        self.values[s.index()]
+    pub fn get(&self, channel: usize) -> i64 {
+        self.values.get(channel).copied().unwrap_or(0)
     }
 }
 
-#[derive(Clone, Copy, Debug)]
+/// Min and max of every channel over one block.
+#[derive(Clone, Debug)]
 struct Summary {
-    min: [i32; 4],
-    max: [i32; 4],
+    min: Vec<i64>,
+    max: Vec<i64>,
 }
 
 #[derive(Clone, Debug)]
 pub struct Trace {
     ticks: Vec<u64>,
-    values: [Vec<i32>; 4],
+    /// One column per channel.
+    values: Vec<Vec<i64>>,
     /// Min/max of each full block of BLOCK samples.
     blocks: Vec<Summary>,
     capacity: usize,
@@ -78,17 +80,15 @@ pub struct Trace {
     dropped: u64,
 }
 
-impl Default for Trace {
-    fn default() -> Self {
-        Trace::with_capacity(DEFAULT_CAPACITY)
-    }
-}
-
 impl Trace {
-    pub fn with_capacity(capacity: usize) -> Self {
+    pub fn new(channels: usize) -> Self {
+        Trace::with_capacity(channels, DEFAULT_CAPACITY)
+    }
+
+    pub fn with_capacity(channels: usize, capacity: usize) -> Self {
         Trace {
             ticks: Vec::new(),
-            values: Default::default(),
+            values: vec![Vec::new(); channels.min(MAX_CHANNELS)],
             blocks: Vec::new(),
             capacity: capacity.max(4 * BLOCK),
             end: 0,
@@ -98,6 +98,9 @@ impl Trace {
 
     pub fn len(&self) -> usize {
         self.ticks.len()
+    }
+    pub fn channels(&self) -> usize {
+        self.values.len()
     }
     pub fn is_empty(&self) -> bool {
         self.ticks.is_empty()
@@ -123,15 +126,19 @@ impl Trace {
 
     /// Record the values after `tick`. Kept only if something changed (or it is the first).
     #[inline]
-    pub fn record(&mut self, tick: u64, values: [i32; 4]) {
+    pub fn record(&mut self, tick: u64, values: &[i64]) {
         self.end = self.end.max(tick);
         if let Some(last) = self.ticks.len().checked_sub(1) {
-            let same = (0..4).all(|s| self.values[s][last] == values[s]);
+            let same = self
+                .values
+                .iter()
+                .zip(values)
+                .all(|(column, v)| column[last] == *v);
             if same || self.ticks[last] >= tick {
                 if !same && self.ticks[last] == tick {
                     // A second record of the same tick (a user edit): the newest values win.
-                    for (s, v) in values.iter().enumerate() {
-                        self.values[s][last] = *v;
+                    for (column, v) in self.values.iter_mut().zip(values) {
+                        column[last] = *v;
                     }
                     self.rebuild_last_block();
                 }
@@ -145,8 +152,8 @@ impl Trace {
             self.values.iter_mut().for_each(|v| v.reserve_exact(more));
         }
         self.ticks.push(tick);
-        for (s, v) in values.iter().enumerate() {
-            self.values[s].push(*v);
+        for (column, v) in self.values.iter_mut().zip(values) {
+            column.push(*v);
         }
         if self.ticks.len().is_multiple_of(BLOCK) {
             let start = self.ticks.len() - BLOCK;
@@ -158,14 +165,15 @@ impl Trace {
     }
 
     fn summarise(&self, range: Range<usize>) -> Summary {
+        let n = self.values.len();
         let mut s = Summary {
-            min: [i32::MAX; 4],
-            max: [i32::MIN; 4],
+            min: vec![i64::MAX; n],
+            max: vec![i64::MIN; n],
         };
-        for series in 0..4 {
-            for &v in &self.values[series][range.clone()] {
-                s.min[series] = s.min[series].min(v);
-                s.max[series] = s.max[series].max(v);
+        for (c, column) in self.values.iter().enumerate() {
+            for &v in &column[range.clone()] {
+                s.min[c] = s.min[c].min(v);
+                s.max[c] = s.max[c].max(v);
             }
         }
         s
@@ -215,7 +223,7 @@ impl Trace {
     pub fn sample(&self, i: usize) -> Sample {
         Sample {
             tick: self.ticks[i],
-            values: [0, 1, 2, 3].map(|s| self.values[s][i]),
+            values: self.values.iter().map(|column| column[i]).collect(),
         }
     }
 
@@ -224,18 +232,17 @@ impl Trace {
         (0..self.len()).map(|i| self.sample(i))
     }
 
-    /// Min and max of `series` over sample indices `range` (non-empty).
-    fn min_max(&self, series: Series, range: Range<usize>) -> (i32, i32) {
-        let s = series.index();
+    /// Min and max of channel `s` over sample indices `range` (non-empty).
+    fn min_max(&self, s: usize, range: Range<usize>) -> (i64, i64) {
         let data = &self.values[s];
-        let scan = |r: Range<usize>, (lo, hi): (i32, i32)| {
+        let scan = |r: Range<usize>, (lo, hi): (i64, i64)| {
             data[r]
                 .iter()
                 .fold((lo, hi), |(lo, hi), &v| (lo.min(v), hi.max(v)))
         };
         let first_block = range.start.div_ceil(BLOCK);
         let last_block = range.end / BLOCK;
-        let (mut lo, mut hi) = (i32::MAX, i32::MIN);
+        let (mut lo, mut hi) = (i64::MAX, i64::MIN);
         if first_block < last_block && last_block <= self.blocks.len() {
             (lo, hi) = scan(range.start..first_block * BLOCK, (lo, hi));
             for b in &self.blocks[first_block..last_block] {
@@ -252,9 +259,15 @@ impl Trace {
     /// At most two points per column for `columns` columns over ticks `[t0, t1)`: the min and
     /// max of the step function in each column, in tick order. Columns the trace does not
     /// cover are left out.
-    pub fn decimate(&self, series: Series, t0: f64, t1: f64, columns: usize) -> Vec<[f64; 2]> {
+    pub fn decimate(&self, channel: usize, t0: f64, t1: f64, columns: usize) -> Vec<[f64; 2]> {
         let mut out = Vec::with_capacity(columns * 2);
-        if self.is_empty() || columns == 0 || t0.is_nan() || t1.is_nan() || t1 <= t0 {
+        if self.is_empty()
+            || channel >= self.values.len()
+            || columns == 0
+            || t0.is_nan()
+            || t1.is_nan()
+            || t1 <= t0
+        {
             return out;
         }
         let end = self.end as f64;
@@ -273,11 +286,11 @@ impl Trace {
                 .ticks
                 .partition_point(|&t| (t as f64) < c1)
                 .max(first + 1);
-            let (lo, hi) = self.min_max(series, first..end);
+            let (lo, hi) = self.min_max(channel, first..end);
             let x = c0 + width / 2.0;
-            out.push([x, f64::from(lo)]);
+            out.push([x, lo as f64]);
             if hi != lo {
-                out.push([x, f64::from(hi)]);
+                out.push([x, hi as f64]);
             }
         }
         out
@@ -286,23 +299,35 @@ impl Trace {
     /// Bytes held, for the memory figures.
     pub fn memory_bytes(&self) -> usize {
         self.ticks.capacity() * 8
-            + self.values.iter().map(|v| v.capacity() * 4).sum::<usize>()
-            + self.blocks.capacity() * std::mem::size_of::<Summary>()
+            + self.values.iter().map(|v| v.capacity() * 8).sum::<usize>()
+            + self.blocks.capacity() * (std::mem::size_of::<Summary>() + 16 * self.values.len())
     }
 
-    /// CSV of every change point: `tick,time_ms,target,actual,error,velocity`. A row holds
-    /// until the next one.
-    pub fn write_csv(&self, out: &mut dyn std::io::Write, tick_micros: u32) -> std::io::Result<()> {
-        writeln!(out, "tick,time_ms,target,actual,error,velocity")?;
+    /// CSV of every change point: `tick,time_ms,` then one column per channel under the given
+    /// names. A row holds until the next one.
+    pub fn write_csv(
+        &self,
+        out: &mut dyn std::io::Write,
+        tick_micros: u32,
+        names: &[String],
+    ) -> std::io::Result<()> {
+        let header: Vec<String> = names.iter().map(|n| csv_field(n)).collect();
+        writeln!(out, "tick,time_ms,{}", header.join(","))?;
         for s in self.samples() {
             let ms = s.tick as f64 * f64::from(tick_micros) / 1000.0;
-            writeln!(
-                out,
-                "{},{ms:.3},{},{},{},{}",
-                s.tick, s.values[0], s.values[1], s.values[2], s.values[3]
-            )?;
+            let values: Vec<String> = s.values.iter().map(i64::to_string).collect();
+            writeln!(out, "{},{ms:.3},{}", s.tick, values.join(","))?;
         }
         Ok(())
+    }
+}
+
+/// A CSV field, quoted when it holds a separator or a quote.
+fn csv_field(text: &str) -> String {
+    if text.contains([',', '"', '\n']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_string()
     }
 }
 
@@ -312,11 +337,11 @@ mod tests {
 
     #[test]
     fn keeps_only_changes() {
-        let mut t = Trace::default();
-        t.record(0, [0, 0, 0, 0]);
-        t.record(1, [0, 0, 0, 0]);
-        t.record(2, [5, 0, 5, 0]);
-        t.record(3, [5, 0, 5, 0]);
+        let mut t = Trace::new(4);
+        t.record(0, &[0, 0, 0, 0]);
+        t.record(1, &[0, 0, 0, 0]);
+        t.record(2, &[5, 0, 5, 0]);
+        t.record(3, &[5, 0, 5, 0]);
         assert_eq!(t.len(), 2);
         assert_eq!(t.at(1).unwrap().values, [0, 0, 0, 0]);
         assert_eq!(t.at(3).unwrap().values, [5, 0, 5, 0]);
@@ -325,15 +350,15 @@ mod tests {
 
     #[test]
     fn drops_the_oldest_quarter_past_capacity() {
-        let mut t = Trace::with_capacity(4 * BLOCK);
+        let mut t = Trace::with_capacity(4, 4 * BLOCK);
         for i in 0..(4 * BLOCK + 1) as u64 {
-            t.record(i, [i as i32, 0, 0, 0]);
+            t.record(i, &[i as i64, 0, 0, 0]);
         }
         assert_eq!(t.len(), 3 * BLOCK + 1);
         assert_eq!(t.first_tick(), Some(BLOCK as u64));
         assert_eq!(t.dropped(), BLOCK as u64);
         // Summaries still match the data after the drop.
-        let d = t.decimate(Series::Target, BLOCK as f64, (4 * BLOCK + 1) as f64, 1);
+        let d = t.decimate(0, BLOCK as f64, (4 * BLOCK + 1) as f64, 1);
         assert_eq!(
             d,
             vec![[d[0][0], BLOCK as f64], [d[0][0], (4 * BLOCK) as f64]]
@@ -342,13 +367,13 @@ mod tests {
 
     #[test]
     fn truncation_forgets_the_future() {
-        let mut t = Trace::default();
+        let mut t = Trace::new(4);
         for i in 0..1000u64 {
-            t.record(i, [i as i32, 0, 0, 0]);
+            t.record(i, &[i as i64, 0, 0, 0]);
         }
         t.truncate_after(499);
         assert_eq!(t.end_tick(), Some(499));
-        t.record(500, [7, 0, 0, 0]);
+        t.record(500, &[7, 0, 0, 0]);
         assert_eq!(t.at(600).unwrap().values[0], 7);
     }
 }

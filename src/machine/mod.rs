@@ -1,25 +1,73 @@
-//! The interpreter core: one module per dialect, and the dialect-neutral view of a machine that
-//! the debugger, the GUI and the headless runner use.
+//! The interpreter core: one folder per dialect, the dialect registry, and the dialect-neutral
+//! face of a machine that the debugger, the window and the headless runner use.
 //!
 //! Nothing here does I/O or knows about egui. A dialect provides an assembler (text → program +
-//! diagnostics) and a machine implementing [`Machine`]; the layers above only talk to that trait,
-//! so a new dialect plugs in without changing them.
+//! diagnostics) and a machine implementing [`Machine`], and registers itself with one line in
+//! [`registry`]; the layers above talk only to [`MachineView`] (dynamic, for reading and
+//! editing) and to [`Machine`] (generic, for the run loops, so the hot loop is monomorphised).
+//!
+//! ## Positions: (tick, step)
+//! Time is a [`Pos`]: the tick counter and the number of instructions already executed inside
+//! that tick. A SilverLode command fills a whole tick, so its positions are always `(t, 0)`; a
+//! scanned PLC (one tick = one scan) executes many instructions per tick, and a user steps,
+//! steps back and edits between them: `(t, 3)` is "scan t, after its third instruction".
 
 pub mod diagnostics;
+pub mod registry;
 pub mod silverlode;
+pub mod value;
+
+use std::any::Any;
 
 pub use diagnostics::{Diagnostic, Severity};
+pub use value::Format;
+
+/// A moment of a run: the tick counter and the instructions executed so far inside that tick.
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    PartialOrd,
+    Ord,
+    Hash,
+    serde::Serialize,
+    serde::Deserialize,
+)]
+pub struct Pos {
+    pub tick: u64,
+    #[serde(default)]
+    pub step: u32,
+}
+
+impl Pos {
+    pub const fn at_tick(tick: u64) -> Self {
+        Pos { tick, step: 0 }
+    }
+}
+
+impl std::fmt::Display for Pos {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.step == 0 {
+            write!(f, "{}", self.tick)
+        } else {
+            write!(f, "{}.{}", self.tick, self.step)
+        }
+    }
+}
 
 /// What a machine is doing.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum RunState {
-    /// Ready to execute the command at the program counter on the next tick.
+    /// Ready to execute the instruction at the program counter.
     Running,
-    /// In the middle of a command that spans ticks.
+    /// In the middle of an instruction that spans ticks.
     Waiting(WaitReason),
     /// The program ended (END, or ran past its last line).
     Ended,
-    /// A command error stopped the program; the state is as it was before that command.
+    /// A fault stopped the program; the state is as it was before that instruction.
     Faulted,
 }
 
@@ -46,24 +94,47 @@ impl RunState {
 pub enum WaitReason {
     Delay,
     Move,
-    /// A status-word condition (WBS): in practice an input.
+    /// A status condition (WBS, WAIT!): in practice an input.
     Condition,
 }
 
-/// Static description of one register.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct RegisterInfo {
-    /// Canonical name, e.g. `R26`.
-    pub name: String,
-    /// The dedicated name, e.g. `ACTUAL` for R1.
-    pub alias: Option<&'static str>,
-    /// A one-line description for tooltips.
-    pub description: &'static str,
-    /// Width in bits.
-    pub width: u8,
+/// One storage location: a space of the machine and an index inside it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Loc {
+    pub space: u8,
+    pub index: u32,
 }
 
-/// One named bit of a status word.
+impl Loc {
+    pub const fn new(space: u8, index: u32) -> Self {
+        Loc { space, index }
+    }
+}
+
+/// How a view presents a storage space.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SpaceKind {
+    /// Data words in a table (R0–R199, V-memory, D registers, TML data).
+    Registers,
+    /// Status words with named bits, or single flag relays (ISW/PSW, SP63, M8003).
+    Flags,
+    /// Input switches a user flips (IO1–IO3, X0…, I0…).
+    Inputs,
+    /// Output and internal bits (Y, C, Q, M).
+    Bits,
+}
+
+/// A named storage space of a machine.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SpaceInfo {
+    pub name: &'static str,
+    pub title: &'static str,
+    pub kind: SpaceKind,
+    /// Locations `0..len`.
+    pub len: u32,
+}
+
+/// One named bit of a word.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BitInfo {
     pub bit: u8,
@@ -71,18 +142,40 @@ pub struct BitInfo {
     pub description: &'static str,
 }
 
-/// A status word with its value and the meaning of its bits.
+/// Static description of one location.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct StatusWordView {
-    pub name: &'static str,
+pub struct LocInfo {
+    /// Canonical name, e.g. `R26`, `V1400`, `ISW`, `IO1`.
+    pub name: String,
+    /// The dedicated name, e.g. `ACTUAL` for R1.
+    pub alias: Option<&'static str>,
+    /// A one-line description for tooltips.
+    pub description: &'static str,
+    /// Width in bits, 1 ..= 64.
     pub width: u8,
-    pub value: u32,
+    /// Read as a two's-complement number by default (plots, "signed" readings).
+    pub signed: bool,
+    /// The reading a view starts with for this location (a TML `fixed` as Q16.16).
+    pub format: Option<Format>,
+    /// Named bits, for words that are bit fields.
     pub bits: &'static [BitInfo],
+    /// A user may write it (false for a relay the machine alone drives).
+    pub editable: bool,
 }
 
-impl StatusWordView {
-    pub fn is_set(&self, bit: u8) -> bool {
-        self.value >> bit & 1 == 1
+impl LocInfo {
+    /// A plain data word.
+    pub fn word(name: String, width: u8, signed: bool) -> Self {
+        LocInfo {
+            name,
+            alias: None,
+            description: "",
+            width,
+            signed,
+            format: None,
+            bits: &[],
+            editable: true,
+        }
     }
 }
 
@@ -92,138 +185,159 @@ pub struct FaultInfo {
     /// Stable machine-readable kind, e.g. `divide_by_zero`.
     pub kind: &'static str,
     pub message: String,
-    /// 1-based source line of the faulting command.
+    /// 1-based source line of the faulting instruction.
     pub line: usize,
 }
 
-/// A queue decoded from its header registers.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct QueueView {
-    pub base: usize,
-    /// Decoded header; `None` when the registers no longer hold a valid queue header.
-    pub header: Option<QueueHeader>,
-    /// Raw header words as stored (`R[base]`, `R[base+1]`).
-    pub raw: [u32; 2],
-}
-
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct QueueHeader {
-    pub size: usize,
-    pub len: usize,
-    pub head: usize,
-    pub tail: usize,
-    /// Register index of slot 0.
-    pub first_slot_register: usize,
-    /// Every slot's current register value, slot 0 first (occupied or stale).
-    pub slots: Vec<i32>,
-    /// Occupied values from the tail (oldest) to the head (newest).
-    pub items: Vec<i32>,
-}
-
-impl QueueHeader {
-    /// Whether slot `index` currently holds a queued value.
-    pub fn is_occupied(&self, index: usize) -> bool {
-        if self.size == 0 || index >= self.size {
-            return false;
-        }
-        (index + self.size - self.tail) % self.size < self.len
-    }
-}
-
-/// What the last command did to a queue, for views that highlight it.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct QueueAccess {
-    pub base: usize,
-    /// `init`, `push head`, `pop head`, `push tail`, `pop tail`, `read 0`, `read -1`, ...
-    pub action: String,
-    /// The slot written or read; `None` for init and for failed operations.
-    pub slot: Option<usize>,
-    /// False when the queue was full or empty (flag variant) or the command faulted.
-    pub ok: bool,
-    /// Why it failed, e.g. `full` or `empty`.
-    pub failure: Option<&'static str>,
-}
-
-/// Motion state in the units the registers use.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub struct MotionView {
-    pub target: i32,
-    pub actual: i32,
-    pub error: i32,
-    /// Actual velocity, native units (counts/tick × 2^26).
-    pub velocity: i32,
-    /// A trajectory is running.
-    pub moving: bool,
-}
-
-/// Why `run_until` returned.
+/// Why a run loop returned.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum StopReason {
     /// The machine ended or faulted.
     Stopped,
-    /// The tick limit was reached first.
+    /// The position limit was reached first.
     TickLimit,
     /// The caller's predicate asked to stop (breakpoint, watchpoint, ...).
     Predicate,
 }
 
-/// The dialect-neutral face of a machine. Values are raw bit patterns (`u32`) so that a view can
-/// show any register in any format; `register_info` tells the width.
-pub trait Machine: Clone + PartialEq {
+/// Why a user edit was refused.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum WriteError {
+    #[error("there is no such location")]
+    NoSuchLocation,
+    #[error("{0} is set by the machine and cannot be written")]
+    ReadOnly(String),
+    #[error("{value} does not fit in {name} ({width} bits)")]
+    TooWide { name: String, value: u64, width: u8 },
+}
+
+/// The dialect-neutral face of a machine for views, edits, sessions and the runner. Values are
+/// raw bit patterns of the location's width (at most 64 bits): a view reads them in any format.
+/// Dynamic dispatch is fine here: these calls happen per frame or per user action.
+pub trait MachineView: Send + 'static {
     /// Dialect identifier, e.g. `silverlode`.
     fn dialect(&self) -> &'static str;
-    /// Time of one tick in microseconds.
+    /// Time of one tick in microseconds (a scan's nominal time for PLCs).
     fn tick_micros(&self) -> u32;
 
-    fn register_count(&self) -> usize;
-    fn register_info(&self, index: usize) -> RegisterInfo;
-    fn register(&self, index: usize) -> u32;
-    /// A user edit. Out-of-range indices are ignored (the views never offer them).
-    fn set_register(&mut self, index: usize, value: u32);
+    /// The storage spaces, in the order views list them.
+    fn spaces(&self) -> Vec<SpaceInfo>;
+    /// Description of one location; `None` when it does not exist.
+    fn info(&self, loc: Loc) -> Option<LocInfo>;
+    /// The raw bits of a location (0 for one that does not exist).
+    fn read(&self, loc: Loc) -> u64;
+    /// A user edit: store `value` (masked to the location's width by the caller's parse).
+    fn write(&mut self, loc: Loc, value: u64) -> Result<(), WriteError>;
+    /// A location by any of its names (canonical, alias, case-insensitive).
+    fn find(&self, name: &str) -> Option<Loc> {
+        find_by_name(self, name)
+    }
+    /// Locations the program text mentions, for "used by the program" filters.
+    fn used(&self) -> Vec<Loc>;
+    /// Names the program itself gives to locations (SilverLode DEFs, TML variables).
+    fn program_names(&self) -> Vec<(String, Loc)>;
 
-    fn status_words(&self) -> Vec<StatusWordView>;
-    /// A user edit of one status bit. Returns false when that bit cannot be set by hand.
-    fn set_status_bit(&mut self, word: &str, bit: u8, on: bool) -> bool;
-
-    fn input_count(&self) -> usize;
-    fn input(&self, index: usize) -> bool;
-    fn set_input(&mut self, index: usize, high: bool);
-
-    /// 1-based source line of the command the program counter points at.
+    /// 1-based source line of the instruction the program counter points at.
     fn pc_line(&self) -> Option<usize>;
     /// Return addresses as 1-based source lines, outermost first.
     fn call_stack_lines(&self) -> Vec<usize>;
     fn run_state(&self) -> RunState;
     fn fault(&self) -> Option<FaultInfo>;
-    fn ticks(&self) -> u64;
+    /// Where the machine is: the tick counter and the instructions run inside this tick.
+    fn pos(&self) -> Pos;
+    fn ticks(&self) -> u64 {
+        self.pos().tick
+    }
+    /// Instructions (commands) executed since the start.
     fn steps(&self) -> u64;
 
-    fn queues(&self) -> Vec<QueueView>;
-    fn motion(&self) -> MotionView;
-
-    /// Registers the last executed command wrote (plus the motion registers while the motor moves).
-    fn last_written(&self) -> Vec<usize>;
-    /// The last executed command in words, with its operand values. Built on demand.
+    /// Locations the last executed instruction wrote (plus those the machine itself drives,
+    /// such as motion registers while the motor moves).
+    fn last_written(&self) -> Vec<Loc>;
+    /// The last executed instruction in words, with its operand values. Built on demand.
     fn explain_last(&self) -> Option<String>;
-    /// 1-based line of the last executed command.
+    /// 1-based line of the last executed instruction.
     fn last_line(&self) -> Option<usize>;
-    /// The queue the last command used, if it was a queue operation.
-    fn last_queue_access(&self) -> Option<QueueAccess>;
 
-    /// Advance one tick.
-    fn step_tick(&mut self);
-    /// Advance until the current command completes (or the machine stops), at most `max_ticks`.
-    fn step_command(&mut self, max_ticks: u64) -> StopReason;
-    /// Run until the tick counter reaches `tick_limit`, the machine stops, or `stop` returns true.
-    /// `stop` is asked before every command starts, never in the middle of one.
-    fn run_until<F: FnMut(&Self) -> bool>(&mut self, tick_limit: u64, stop: F) -> StopReason {
-        self.run_observed(tick_limit, stop, |_| {})
+    /// The dialect's fields of the runner's JSON object, after the common header: a fragment
+    /// like `"registers":{...},"isw":0` (no surrounding braces, no leading comma).
+    fn report_json(&self) -> String;
+    /// The dialect's lines of the runner's text report.
+    fn report_text(&self) -> String;
+
+    /// For a dialect's own panels, which know the concrete type.
+    fn as_any(&self) -> &dyn Any;
+}
+
+/// The location named `name`: canonical names and aliases of every space, then the program's
+/// own names. Linear in the machine's size; dialects with large spaces override
+/// [`MachineView::find`] with a parser.
+pub fn find_by_name<M: MachineView + ?Sized>(m: &M, name: &str) -> Option<Loc> {
+    let name = name.trim();
+    for (s, space) in m.spaces().iter().enumerate() {
+        for index in 0..space.len {
+            let loc = Loc::new(s as u8, index);
+            if let Some(info) = m.info(loc)
+                && (info.name.eq_ignore_ascii_case(name)
+                    || info.alias.is_some_and(|a| a.eq_ignore_ascii_case(name)))
+            {
+                return Some(loc);
+            }
+        }
     }
-    /// `run_until`, calling `observe` after every tick (traces record through it).
+    m.program_names()
+        .into_iter()
+        .find(|(n, _)| n == name)
+        .map(|(_, loc)| loc)
+}
+
+/// Every location of every space, for views and reports that list them all.
+pub fn all_locations(m: &dyn MachineView) -> Vec<Loc> {
+    m.spaces()
+        .iter()
+        .enumerate()
+        .flat_map(|(s, space)| (0..space.len).map(move |i| Loc::new(s as u8, i)))
+        .collect()
+}
+
+/// The value of `loc` as a number: sign-extended from its width when the location is signed.
+pub fn value_of(m: &dyn MachineView, loc: Loc) -> i64 {
+    let raw = m.read(loc);
+    match m.info(loc) {
+        Some(info) if info.signed => value::sign_extend(raw, info.width),
+        _ => raw as i64,
+    }
+}
+
+/// A machine the debugger can run: the view plus the run loops, generic so that each dialect's
+/// hot loop is compiled for it (no dynamic dispatch per executed instruction).
+pub trait Machine: MachineView + Clone + PartialEq {
+    /// Run until the position reaches `limit`, the machine stops, or `stop` returns true.
+    /// `stop` is asked before every instruction starts, never in the middle of one; `observe`
+    /// is called after every completed tick (traces and checkpoints record through it).
     fn run_observed<F: FnMut(&Self) -> bool, O: FnMut(&Self)>(
         &mut self,
-        tick_limit: u64,
+        limit: Pos,
         stop: F,
         observe: O,
     ) -> StopReason;
+
+    /// `run_observed` without an observer, up to a tick.
+    fn run_until<F: FnMut(&Self) -> bool>(&mut self, tick_limit: u64, stop: F) -> StopReason {
+        self.run_observed(Pos::at_tick(tick_limit), stop, |_| {})
+    }
+
+    /// Advance to the end of the current tick (one tick; one scan for a PLC).
+    fn step_tick(&mut self) {
+        let next = Pos::at_tick(self.ticks() + 1);
+        self.run_observed(next, |_| false, |_| {});
+    }
+
+    /// Advance until the current instruction completes (or the machine stops), at most
+    /// `max_ticks`.
+    fn step_command(&mut self, max_ticks: u64) -> StopReason {
+        let start = self.pos();
+        let limit = Pos::at_tick(start.tick.saturating_add(max_ticks));
+        self.run_observed(limit, |m| m.pos() > start, |_| {})
+    }
 }

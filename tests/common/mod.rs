@@ -2,11 +2,16 @@
 //! Helpers shared by the integration tests.
 
 use servoscope::machine::silverlode::SilverLode;
-use servoscope::machine::{Machine, RunState};
+use servoscope::machine::{Machine, MachineView, RunState};
+
+/// Assemble `source` into a SilverLode machine with the default servo model.
+pub fn load(source: &str) -> Result<SilverLode, Vec<servoscope::machine::Diagnostic>> {
+    servoscope::machine::silverlode::dialect::machine(source, &Default::default())
+}
 
 /// Assemble `source` or fail the test with every diagnostic.
 pub fn machine(source: &str) -> SilverLode {
-    match servoscope::runner::load(source) {
+    match load(source) {
         Ok(m) => m,
         Err(diags) => {
             let text: Vec<String> = diags.iter().map(ToString::to_string).collect();

@@ -18,16 +18,7 @@ use std::collections::HashMap;
 use super::program::{ClcOp, Cond, CondBit, ExtOp, Instr, MoveKind, Program};
 use crate::machine::diagnostics::{Diagnostic, suggest};
 
-/// Register aliases (spec §1).
-pub const ALIASES: &[(&str, u8)] = &[
-    ("TARGET", 0),
-    ("ACTUAL", 1),
-    ("LAST_INDEX", 2),
-    ("LAST_TRIG", 4),
-    ("POS_ERROR", 6),
-    ("VELOCITY", 7),
-    ("ACC", 10),
-];
+pub use super::program::ALIASES;
 
 pub const MNEMONICS: &[&str] = &[
     "CLC", "CLD", "CLX", "WRP", "JMP", "CALL", "RET", "DLY", "WBS", "CER", "END", "MAV", "MRV",
@@ -57,6 +48,7 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
             lines: asm.lines,
             labels: asm.label_list,
             used_registers: used,
+            register_names: asm.register_names,
         })
     } else {
         asm.errors.sort_by_key(|d| (d.line, d.col));
@@ -189,6 +181,7 @@ struct Assembler {
     labels: HashMap<String, (u32, usize)>,
     label_list: Vec<(String, u32)>,
     defs: HashMap<String, (DefValue, usize)>,
+    register_names: Vec<(String, u8)>,
     /// DEF names and the line that defines them, to explain "used before definition".
     all_defs: HashMap<String, usize>,
     used: Vec<u8>,
@@ -309,6 +302,9 @@ impl Assembler {
         };
         match parsed {
             Ok(v) => {
+                if let DefValue::Register(r) = v {
+                    self.register_names.push((name.text.to_string(), r));
+                }
                 self.defs.insert(name.text.to_string(), (v, line));
             }
             Err(message) => self.error(line, value, message),
@@ -626,7 +622,7 @@ impl Assembler {
             .defs
             .keys()
             .map(String::as_str)
-            .chain(ALIASES.iter().map(|(a, _)| *a));
+            .chain(ALIASES.iter().map(|a| a.name));
         let hint = suggest(name, candidates)
             .map(|s| format!("; did you mean '{s}'?"))
             .unwrap_or_default();
@@ -697,8 +693,8 @@ fn unknown(what: &str, text: &str, names: &[&str]) -> String {
 fn alias(text: &str) -> Option<u8> {
     ALIASES
         .iter()
-        .find(|(name, _)| name.eq_ignore_ascii_case(text))
-        .map(|&(_, r)| r)
+        .find(|a| a.name.eq_ignore_ascii_case(text))
+        .map(|a| a.register)
 }
 
 /// `R26` / `r26` → 26 when in range.
@@ -765,45 +761,7 @@ pub fn parse_number(text: &str) -> OpResult<i64> {
     Ok(if negative { -value } else { value })
 }
 
-/// `round(x × 65536)`, ties away from zero, computed exactly from the decimal text.
-pub fn parse_q16(inner: &str) -> OpResult<i64> {
-    let text = inner.trim();
-    let malformed = || format!("q16({text}) needs a decimal number, like q16(254.3467)");
-    let (negative, body) = match text.as_bytes().first() {
-        Some(b'-') => (true, &text[1..]),
-        Some(b'+') => (false, &text[1..]),
-        _ => (false, text),
-    };
-    let (int_part, frac_part) = body.split_once('.').unwrap_or((body, ""));
-    let int_digits: String = int_part.chars().filter(|&c| c != '_').collect();
-    let frac_digits: String = frac_part.chars().filter(|&c| c != '_').collect();
-    if int_digits.is_empty() && frac_digits.is_empty()
-        || !int_digits.chars().all(|c| c.is_ascii_digit())
-        || !frac_digits.chars().all(|c| c.is_ascii_digit())
-    {
-        return Err(malformed());
-    }
-    let significant = int_digits.trim_start_matches('0').len() + frac_digits.len();
-    if significant > 30 {
-        return Err(format!("q16({text}) has too many digits (at most 30)"));
-    }
-    let mantissa: u128 = format!("{int_digits}{frac_digits}")
-        .parse::<u128>()
-        .unwrap_or(0);
-    let scale = 10u128.pow(frac_digits.len() as u32);
-    let scaled = mantissa * 65536;
-    let mut q = scaled / scale;
-    if (scaled % scale) * 2 >= scale {
-        q += 1;
-    }
-    let value = if negative { -(q as i128) } else { q as i128 };
-    if !(i32::MIN as i128..=i32::MAX as i128).contains(&value) {
-        return Err(format!(
-            "q16({text}) does not fit in a signed 32-bit register (-32768 ..< 32768)"
-        ));
-    }
-    Ok(value as i64)
-}
+pub use crate::machine::value::parse_q16;
 
 #[cfg(test)]
 mod tests {

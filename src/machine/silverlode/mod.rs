@@ -17,9 +17,12 @@
 //! - The holding-error limit defaults to 2000 counts, like the moving-error limit.
 
 pub mod assembler;
+pub mod dialect;
 mod explain;
 pub mod motion;
 pub mod program;
+pub mod syntax;
+pub mod view;
 
 use std::sync::Arc;
 
@@ -27,10 +30,8 @@ pub use assembler::assemble;
 pub use motion::ServoSettings;
 pub use program::{ClcOp, Cond, CondBit, ExtOp, Instr, MoveKind, Program};
 
-use crate::machine::{
-    BitInfo, FaultInfo, Machine, MotionView, QueueAccess, QueueHeader, QueueView, RegisterInfo,
-    RunState, StatusWordView, StopReason, WaitReason,
-};
+use crate::machine::{BitInfo, RunState, StopReason, WaitReason};
+pub use view::{QueueAccess, QueueHeader, QueueView};
 use motion::{FRAC, Motion};
 
 pub const REGISTERS: usize = 200;
@@ -385,6 +386,20 @@ impl SilverLode {
     /// Index of the next command (== program length once it ran past the end).
     pub fn pc(&self) -> u32 {
         self.s.pc
+    }
+    /// A user edit of a register (out-of-range indices are ignored).
+    pub fn set_reg(&mut self, r: usize, value: i32) {
+        if let Some(slot) = self.s.regs.get_mut(r) {
+            *slot = value;
+        }
+    }
+    /// A user edit of a whole status word (`isw` or PSW); callers check which bits may change.
+    pub(crate) fn set_status_word(&mut self, isw: bool, value: u16) {
+        if isw {
+            self.s.isw = value;
+        } else {
+            self.s.psw = value;
+        }
     }
     // ---- execution -------------------------------------------------------------------------
 
@@ -1017,7 +1032,7 @@ impl SilverLode {
         self.s.isw = bits;
     }
 
-    /// Run at full speed; see [`Machine::run_observed`].
+    /// Run at full speed; see [`crate::machine::Machine::run_observed`].
     #[inline]
     pub fn run_fast<F: FnMut(&Self) -> bool, O: FnMut(&Self)>(
         &mut self,
@@ -1063,12 +1078,12 @@ impl SilverLode {
         }
     }
 
-    fn line_of(&self, pc: u32) -> Option<usize> {
+    pub fn line_of(&self, pc: u32) -> Option<usize> {
         self.program.lines.get(pc as usize).map(|&l| l as usize)
     }
 
     /// The queue the last command used, derived from the command and its record.
-    fn queue_access(&self) -> Option<QueueAccess> {
+    pub fn last_queue_access(&self) -> Option<QueueAccess> {
         let last = self.s.last;
         let (op, base) = match *self.program.instrs.get(last.pc as usize)? {
             Instr::Cld { op, reg1, .. } | Instr::Clx { op, reg1, .. } if op.is_queue() => {
@@ -1113,7 +1128,7 @@ impl SilverLode {
     }
 
     /// Registers the last command wrote, derived from the command and its record.
-    fn written_by_last(&self) -> Vec<usize> {
+    pub fn written_by_last(&self) -> Vec<usize> {
         let last = self.s.last;
         let mut out = Vec::new();
         if last.outcome != Outcome::Done {
@@ -1174,199 +1189,3 @@ impl SilverLode {
     }
 }
 
-const ALIAS_BY_REGISTER: [(usize, &str, &str); 8] = [
-    (0, "TARGET", "target position (counts)"),
-    (1, "ACTUAL", "actual position (counts)"),
-    (2, "LAST_INDEX", "last index position"),
-    (
-        4,
-        "LAST_TRIG",
-        "actual position when the last move stopped on its input",
-    ),
-    (6, "POS_ERROR", "position error R0 − R1"),
-    (7, "VELOCITY", "actual velocity (counts/tick × 2^26)"),
-    (10, "ACC", "accumulator of CLC"),
-    (usize::MAX, "", "user register"),
-];
-
-impl Machine for SilverLode {
-    fn dialect(&self) -> &'static str {
-        "silverlode"
-    }
-    fn tick_micros(&self) -> u32 {
-        TICK_MICROS
-    }
-    fn register_count(&self) -> usize {
-        REGISTERS
-    }
-    fn register_info(&self, index: usize) -> RegisterInfo {
-        let (alias, description) = ALIAS_BY_REGISTER
-            .iter()
-            .find(|(r, _, _)| *r == index)
-            .map_or((None, "user register"), |&(_, a, d)| (Some(a), d));
-        RegisterInfo {
-            name: format!("R{index}"),
-            alias,
-            description,
-            width: 32,
-        }
-    }
-    fn register(&self, index: usize) -> u32 {
-        self.s.regs.get(index).map_or(0, |&v| v as u32)
-    }
-    fn set_register(&mut self, index: usize, value: u32) {
-        if let Some(r) = self.s.regs.get_mut(index) {
-            *r = value as i32;
-        }
-    }
-    fn status_words(&self) -> Vec<StatusWordView> {
-        vec![
-            StatusWordView {
-                name: "ISW",
-                width: 16,
-                value: u32::from(self.s.isw),
-                bits: ISW_BITS,
-            },
-            StatusWordView {
-                name: "PSW",
-                width: 16,
-                value: u32::from(self.s.psw),
-                bits: PSW_BITS,
-            },
-        ]
-    }
-    fn set_status_bit(&mut self, word: &str, bit: u8, on: bool) -> bool {
-        let (target, bits) = match word {
-            "ISW" => (&mut self.s.isw, ISW_BITS),
-            "PSW" => (&mut self.s.psw, PSW_BITS),
-            _ => return false,
-        };
-        // The driver is always enabled and inputs are set through `set_input`.
-        if !bits.iter().any(|b| b.bit == bit) || (word == "ISW" && (4..=7).contains(&bit)) {
-            return false;
-        }
-        if on {
-            *target |= 1 << bit;
-        } else {
-            *target &= !(1 << bit);
-        }
-        true
-    }
-    fn input_count(&self) -> usize {
-        3
-    }
-    fn input(&self, index: usize) -> bool {
-        index < 3 && self.s.inputs >> index & 1 == 1
-    }
-    fn set_input(&mut self, index: usize, high: bool) {
-        self.set_io(index, high);
-    }
-    fn pc_line(&self) -> Option<usize> {
-        self.line_of(self.s.pc)
-    }
-    fn call_stack_lines(&self) -> Vec<usize> {
-        self.s.stack[..self.s.sp as usize]
-            .iter()
-            .map(|&pc| self.line_of(pc).unwrap_or(0))
-            .collect()
-    }
-    fn run_state(&self) -> RunState {
-        self.s.run
-    }
-    fn fault(&self) -> Option<FaultInfo> {
-        if self.s.run != RunState::Faulted {
-            return None;
-        }
-        self.s.fault.as_ref().map(|f| FaultInfo {
-            kind: f.kind.code(),
-            message: f.message.clone(),
-            line: self.line_of(f.pc).unwrap_or(0),
-        })
-    }
-    fn ticks(&self) -> u64 {
-        self.s.ticks
-    }
-    fn steps(&self) -> u64 {
-        self.s.steps
-    }
-    fn queues(&self) -> Vec<QueueView> {
-        self.s
-            .queue_bases
-            .iter()
-            .map(|&base| {
-                let base = base as usize;
-                let regs = &self.s.regs;
-                let raw = [
-                    regs[base] as u32,
-                    regs.get(base + 1).map_or(0, |&v| v as u32),
-                ];
-                let header = RawQueue::decode(regs, base).map(|q| {
-                    let first = base + 2;
-                    let slots: Vec<i32> = regs[first..first + q.size as usize].to_vec();
-                    let items = (0..q.len)
-                        .map(|i| slots[((q.tail + i) % q.size) as usize])
-                        .collect();
-                    QueueHeader {
-                        size: q.size as usize,
-                        len: q.len as usize,
-                        head: q.head as usize,
-                        tail: q.tail as usize,
-                        first_slot_register: first,
-                        slots,
-                        items,
-                    }
-                });
-                QueueView { base, header, raw }
-            })
-            .collect()
-    }
-    fn motion(&self) -> MotionView {
-        let r = &self.s.regs;
-        MotionView {
-            target: r[0],
-            actual: r[1],
-            error: r[6],
-            velocity: r[7],
-            moving: self.s.motion.active,
-        }
-    }
-    fn last_written(&self) -> Vec<usize> {
-        self.written_by_last()
-    }
-    fn explain_last(&self) -> Option<String> {
-        explain::explain(self)
-    }
-    fn last_line(&self) -> Option<usize> {
-        self.line_of(self.s.last.pc)
-    }
-    fn step_tick(&mut self) {
-        self.tick();
-    }
-    fn step_command(&mut self, max_ticks: u64) -> StopReason {
-        let limit = self.s.ticks.saturating_add(max_ticks);
-        let before = self.s.ticks;
-        loop {
-            if !self.s.run.is_live() {
-                return StopReason::Stopped;
-            }
-            if self.s.ticks >= limit {
-                return StopReason::TickLimit;
-            }
-            self.tick();
-            if self.s.run == RunState::Running && self.s.ticks > before {
-                return StopReason::Predicate;
-            }
-        }
-    }
-    fn run_observed<F: FnMut(&Self) -> bool, O: FnMut(&Self)>(
-        &mut self,
-        tick_limit: u64,
-        stop: F,
-        observe: O,
-    ) -> StopReason {
-        self.run_fast(tick_limit, stop, observe)
-    }
-    fn last_queue_access(&self) -> Option<QueueAccess> {
-        self.queue_access()
-    }
-}

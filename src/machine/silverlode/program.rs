@@ -207,6 +207,52 @@ pub enum Instr {
     Ttp,
 }
 
+/// A register's dedicated name (spec §1), the one table the assembler and the views read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Alias {
+    pub register: u8,
+    pub name: &'static str,
+    pub description: &'static str,
+}
+
+pub const ALIASES: &[Alias] = &[
+    Alias {
+        register: 0,
+        name: "TARGET",
+        description: "target position (counts)",
+    },
+    Alias {
+        register: 1,
+        name: "ACTUAL",
+        description: "actual position (counts)",
+    },
+    Alias {
+        register: 2,
+        name: "LAST_INDEX",
+        description: "last index position",
+    },
+    Alias {
+        register: 4,
+        name: "LAST_TRIG",
+        description: "actual position when the last move stopped on its input",
+    },
+    Alias {
+        register: 6,
+        name: "POS_ERROR",
+        description: "position error R0 − R1",
+    },
+    Alias {
+        register: 7,
+        name: "VELOCITY",
+        description: "actual velocity (counts/tick × 2^26)",
+    },
+    Alias {
+        register: 10,
+        name: "ACC",
+        description: "accumulator of CLC",
+    },
+];
+
 /// An assembled program: commands, where each came from, and the names the source used.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Program {
@@ -217,6 +263,8 @@ pub struct Program {
     pub labels: Vec<(String, u32)>,
     /// Registers the source mentions (for "registers this program uses" filters).
     pub used_registers: Vec<u8>,
+    /// DEF names that name registers, in source order.
+    pub register_names: Vec<(String, u8)>,
 }
 
 impl Program {
@@ -226,6 +274,7 @@ impl Program {
             lines: Vec::new(),
             labels: Vec::new(),
             used_registers: Vec::new(),
+            register_names: Vec::new(),
         })
     }
 

@@ -1,0 +1,140 @@
+//! The seam between the dialect-neutral debugger and a dialect's concrete machine.
+//!
+//! [`Engine`] is object-safe: the debugger holds a `Box<dyn Engine>` and calls it once per
+//! user action or per frame slice. [`Core`] implements it for any [`Machine`] with the
+//! timeline's loops compiled for that machine, so breakpoint checks, event replay and trace
+//! recording run without dynamic dispatch per executed instruction.
+
+use super::history::{Change, Mark, MarkKind, Timeline, UserEvent};
+use super::trace::{Channel, Trace};
+use crate::machine::{Loc, Machine, MachineView, Pos, StopReason, WriteError};
+
+/// When a forward run stops, as data, so the check is compiled into each dialect's loop.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct StopWhen<'a> {
+    /// Breakpoints by 1-based line (index = line).
+    pub breakpoints: &'a [bool],
+    /// Run to this line.
+    pub line: Option<usize>,
+    /// Stop at the first instruction boundary after this position (step one instruction).
+    pub after: Option<Pos>,
+    /// Stop at any instruction boundary.
+    pub any: bool,
+    /// Do not stop at the very first boundary (resuming from a breakpoint).
+    pub skip_first: bool,
+}
+
+impl StopWhen<'_> {
+    /// Whether to stop before the instruction `m` is about to run.
+    #[inline]
+    pub fn holds<M: MachineView + ?Sized>(&self, m: &M) -> bool {
+        if self.any {
+            return true;
+        }
+        if let Some(after) = self.after
+            && m.pos() > after
+        {
+            return true;
+        }
+        if self.breakpoints.is_empty() && self.line.is_none() {
+            return false;
+        }
+        m.pc_line().is_some_and(|l| {
+            self.breakpoints.get(l).copied().unwrap_or(false) || self.line == Some(l)
+        })
+    }
+}
+
+/// A machine with its timeline, seen through a dialect-neutral interface.
+pub trait Engine: Send {
+    fn machine(&self) -> &dyn MachineView;
+    /// A fresh timeline at the start of the same program and settings, with these events.
+    fn restarted(&self, events: Vec<UserEvent>, channels: Vec<Channel>) -> Box<dyn Engine>;
+    fn furthest(&self) -> Pos;
+    /// Run forward to `limit` or until `stop` holds (never before the first instruction when
+    /// `skip_first`).
+    fn forward(&mut self, limit: Pos, stop: &StopWhen<'_>) -> StopReason;
+    /// Rebuild the state at `pos` (clamped to the furthest position).
+    fn goto(&mut self, pos: Pos);
+    /// The last instruction boundary before `before` where `wanted` holds.
+    fn find_back(&mut self, before: Pos, wanted: &StopWhen<'_>) -> Option<Pos>;
+    /// A user edit at the current position; `Ok(true)` when it discarded a recorded future.
+    fn edit(&mut self, loc: Loc, change: Change) -> Result<bool, WriteError>;
+    fn events(&self) -> &[UserEvent];
+    fn marks(&self) -> &[Mark];
+    fn mark(&mut self, kind: MarkKind, line: usize);
+    fn mark_at(&mut self, at: Pos, kind: MarkKind, line: usize);
+    fn trace(&self) -> &Trace;
+    fn channels(&self) -> &[Channel];
+    fn memory_bytes(&self) -> usize;
+    /// Run the machine straight to `limit` with `events`, recording nothing (the headless
+    /// runner). The timeline's history is not kept: use only on a fresh engine.
+    fn run_headless(&mut self, events: &[UserEvent], max_ticks: u64);
+}
+
+/// The engine for one dialect's machine type.
+pub struct Core<M: Machine> {
+    timeline: Timeline<M>,
+}
+
+/// A debuggable engine for `machine` at its start, with no events and no channels.
+pub fn engine<M: Machine>(machine: M) -> Box<dyn Engine> {
+    Box::new(Core {
+        timeline: Timeline::new(machine, Vec::new(), Vec::new()),
+    })
+}
+
+impl<M: Machine> Engine for Core<M> {
+    fn machine(&self) -> &dyn MachineView {
+        &self.timeline.machine
+    }
+    fn restarted(&self, events: Vec<UserEvent>, channels: Vec<Channel>) -> Box<dyn Engine> {
+        Box::new(Core {
+            timeline: Timeline::new(self.timeline.initial().clone(), events, channels),
+        })
+    }
+    fn furthest(&self) -> Pos {
+        self.timeline.furthest()
+    }
+    fn forward(&mut self, limit: Pos, stop: &StopWhen<'_>) -> StopReason {
+        let mut first = stop.skip_first;
+        self.timeline.forward(limit, |m| {
+            let hit = !first && stop.holds(m);
+            first = false;
+            hit
+        })
+    }
+    fn goto(&mut self, pos: Pos) {
+        self.timeline.goto(pos);
+    }
+    fn find_back(&mut self, before: Pos, wanted: &StopWhen<'_>) -> Option<Pos> {
+        self.timeline.find_back(before, |m| wanted.holds(m))
+    }
+    fn edit(&mut self, loc: Loc, change: Change) -> Result<bool, WriteError> {
+        self.timeline.edit(loc, change)
+    }
+    fn events(&self) -> &[UserEvent] {
+        self.timeline.events()
+    }
+    fn marks(&self) -> &[Mark] {
+        self.timeline.marks()
+    }
+    fn mark(&mut self, kind: MarkKind, line: usize) {
+        self.timeline.mark(kind, line);
+    }
+    fn mark_at(&mut self, at: Pos, kind: MarkKind, line: usize) {
+        self.timeline.mark_at(at, kind, line);
+    }
+    fn trace(&self) -> &Trace {
+        &self.timeline.trace
+    }
+    fn channels(&self) -> &[Channel] {
+        self.timeline.channels()
+    }
+    fn memory_bytes(&self) -> usize {
+        self.timeline.memory_bytes()
+    }
+    fn run_headless(&mut self, events: &[UserEvent], max_ticks: u64) {
+        crate::runner::run_events(&mut self.timeline.machine, events, max_ticks);
+    }
+}

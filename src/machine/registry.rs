@@ -1,0 +1,235 @@
+//! The dialects servoscope knows. Each dialect lives in its own folder under `src/machine/` and
+//! describes itself with one [`Dialect`] value; registering it is one line in [`DIALECTS`].
+//! Everything above the core (debugger, sessions, runner, window) finds what it needs here.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use crate::debugger::Engine;
+use crate::machine::Diagnostic;
+
+/// Every registered dialect. The first one is the default (the built-in example at start-up).
+pub static DIALECTS: &[&Dialect] = &[&super::silverlode::dialect::DIALECT];
+
+/// A dialect's settings by key (SilverLode: the servo model). Stored in sessions.
+pub type Settings = BTreeMap<String, f64>;
+
+/// The class of a piece of program text, for the code view's colours.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum TokenClass {
+    Plain,
+    Mnemonic,
+    Operation,
+    Number,
+    Location,
+    Label,
+    Comment,
+    Condition,
+}
+
+/// The words a dialect's users use for its units of time and work.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Vocabulary {
+    /// "tick" or "scan".
+    pub tick: &'static str,
+    pub ticks: &'static str,
+    /// "command", "statement" or "instruction".
+    pub step: &'static str,
+    pub steps: &'static str,
+}
+
+/// One setting of a dialect's model, with its stable range.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SettingInfo {
+    pub key: &'static str,
+    pub label: &'static str,
+    pub help: &'static str,
+    pub min: f64,
+    pub max: f64,
+    pub default: f64,
+    /// Whole numbers only.
+    pub integer: bool,
+}
+
+/// A default plot channel: a location name and how the legend calls it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ChannelSpec {
+    pub location: &'static str,
+    pub label: &'static str,
+    /// Channels of the same group share a plot; groups are stacked.
+    pub group: u8,
+}
+
+/// What the runner does when the tick limit comes first.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AtLimit {
+    /// Status `limit`, exit 3 (programs that end by themselves).
+    Limit,
+    /// Status `ended`, exit 0 (scanned PLCs: running N scans is the whole job).
+    Ended,
+}
+
+/// A program assembled into a debuggable machine, or every diagnostic.
+pub type OpenResult = Result<Box<dyn Engine>, Vec<Diagnostic>>;
+
+pub struct Dialect {
+    /// Identifier used in sessions, `--dialect` and the runner's JSON.
+    pub name: &'static str,
+    pub display_name: &'static str,
+    /// File name extensions without the dot, lower case; the first is the one new files get.
+    pub extensions: &'static [&'static str],
+    pub vocabulary: Vocabulary,
+    /// Built-in example programs: (file name, text).
+    pub examples: &'static [(&'static str, &'static str)],
+    /// Lesson sessions shipped in `sessions/`: (file name, text).
+    pub lessons: &'static [(&'static str, &'static str)],
+    pub settings: &'static [SettingInfo],
+    pub default_channels: &'static [ChannelSpec],
+    /// The runner's `--max-ticks` default.
+    pub default_max_ticks: u64,
+    pub at_limit: AtLimit,
+    /// A starting text for File → New.
+    pub new_program: &'static str,
+    /// Assemble `source` into a machine with these settings.
+    pub open: fn(source: &str, settings: &Settings) -> OpenResult,
+    /// Colour class of every character of one line (without its newline).
+    pub classify: fn(line: &str) -> Vec<TokenClass>,
+}
+
+impl Dialect {
+    /// The settings with every key at its default, overridden by `given` where it has a
+    /// value for a known key, each brought into its range (NaN becomes the default).
+    pub fn settings_from(&self, given: &Settings) -> Settings {
+        self.settings
+            .iter()
+            .map(|s| {
+                let v = given.get(s.key).copied().unwrap_or(s.default);
+                let v = if v.is_nan() {
+                    s.default
+                } else {
+                    v.clamp(s.min, s.max)
+                };
+                let v = if s.integer { v.round() } else { v };
+                (s.key.to_string(), v)
+            })
+            .collect()
+    }
+
+    pub fn default_settings(&self) -> Settings {
+        self.settings_from(&Settings::new())
+    }
+}
+
+impl std::fmt::Debug for Dialect {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Dialect").field("name", &self.name).finish()
+    }
+}
+
+impl PartialEq for Dialect {
+    fn eq(&self, other: &Self) -> bool {
+        self.name == other.name
+    }
+}
+
+/// The default dialect.
+pub fn default_dialect() -> &'static Dialect {
+    DIALECTS[0]
+}
+
+/// A dialect by its name (case-insensitive).
+pub fn by_name(name: &str) -> Option<&'static Dialect> {
+    DIALECTS
+        .iter()
+        .copied()
+        .find(|d| d.name.eq_ignore_ascii_case(name.trim()))
+}
+
+/// The dialect whose extension `path` has.
+pub fn by_path(path: &Path) -> Option<&'static Dialect> {
+    let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+    DIALECTS
+        .iter()
+        .copied()
+        .find(|d| d.extensions.contains(&ext.as_str()))
+}
+
+/// `silverlode (.qsl), ...`: for messages that list the choices.
+pub fn list() -> String {
+    DIALECTS
+        .iter()
+        .map(|d| format!("{} (.{})", d.name, d.extensions.join(", .")))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Why no dialect could be chosen for a file.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum ChooseError {
+    #[error("unknown dialect '{0}'; servoscope knows {list}", list = list())]
+    UnknownName(String),
+    #[error(
+        "{0}: no dialect uses this file's extension; pass --dialect NAME (servoscope knows {list})",
+        list = list()
+    )]
+    UnknownExtension(String),
+}
+
+/// The dialect for a program file: `--dialect NAME` if given, else the file's extension.
+pub fn choose(path: &Path, name: Option<&str>) -> Result<&'static Dialect, ChooseError> {
+    match name {
+        Some(n) => by_name(n).ok_or_else(|| ChooseError::UnknownName(n.to_string())),
+        None => by_path(path).ok_or_else(|| ChooseError::UnknownExtension(path.display().to_string())),
+    }
+}
+
+/// Every example of every dialect, with its dialect.
+pub fn examples() -> impl Iterator<Item = (&'static Dialect, &'static str, &'static str)> {
+    DIALECTS
+        .iter()
+        .flat_map(|d| d.examples.iter().map(move |&(n, t)| (*d, n, t)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_and_extensions_are_unique() {
+        let mut names: Vec<&str> = DIALECTS.iter().map(|d| d.name).collect();
+        let mut exts: Vec<&str> = DIALECTS.iter().flat_map(|d| d.extensions.iter().copied()).collect();
+        let (n, e) = (names.len(), exts.len());
+        names.sort_unstable();
+        names.dedup();
+        exts.sort_unstable();
+        exts.dedup();
+        assert_eq!(names.len(), n, "two dialects share a name");
+        assert_eq!(exts.len(), e, "two dialects share an extension");
+        assert!(!exts.contains(&"ron"), ".ron is for sessions");
+    }
+
+    #[test]
+    fn choosing_by_extension_and_by_name() {
+        let sl = by_name("silverlode").expect("registered");
+        assert_eq!(choose(Path::new("a/b.QSL"), None), Ok(sl));
+        assert_eq!(choose(Path::new("prog.txt"), Some("SilverLode")), Ok(sl));
+        let unknown = choose(Path::new("prog.txt"), None).unwrap_err();
+        assert!(unknown.to_string().contains("silverlode (.qsl)"), "{unknown}");
+        assert!(matches!(
+            choose(Path::new("a.qsl"), Some("cobol")),
+            Err(ChooseError::UnknownName(_))
+        ));
+    }
+
+    #[test]
+    fn settings_are_clamped_and_completed() {
+        let sl = by_name("silverlode").expect("registered");
+        let mut given = Settings::new();
+        given.insert("natural_frequency_hz".into(), 1e9);
+        given.insert("unknown".into(), 3.0);
+        let s = sl.settings_from(&given);
+        assert_eq!(s.len(), sl.settings.len());
+        assert_eq!(s["natural_frequency_hz"], 200.0);
+        assert!(!s.contains_key("unknown"));
+    }
+}

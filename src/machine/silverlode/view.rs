@@ -1,0 +1,380 @@
+//! SilverLode as the debugger, the views and the runner see it: its storage spaces (R0–R199,
+//! the status words, the three inputs), its queues decoded, and its runner report (spec §8).
+
+use std::any::Any;
+use std::fmt::Write as _;
+
+use super::motion::FRAC;
+use super::program::ALIASES;
+use super::{ISW_BITS, PSW_BITS, RawQueue, REGISTERS, SilverLode, TICK_MICROS};
+use crate::machine::{
+    FaultInfo, Loc, LocInfo, Machine, MachineView, Pos, RunState, SpaceInfo, SpaceKind,
+    StopReason, WriteError,
+};
+
+/// Storage spaces, in the order [`MachineView::spaces`] lists them.
+pub const REGS: u8 = 0;
+pub const STATUS: u8 = 1;
+pub const INPUTS: u8 = 2;
+pub const ISW: Loc = Loc::new(STATUS, 0);
+pub const PSW: Loc = Loc::new(STATUS, 1);
+
+/// The register at `index`.
+pub const fn reg(index: u32) -> Loc {
+    Loc::new(REGS, index)
+}
+
+/// Input IO(n+1).
+pub const fn io(index: u32) -> Loc {
+    Loc::new(INPUTS, index)
+}
+
+/// ISW bits a user cannot set: the inputs (switched with IO1–IO3) and the always-on driver.
+const ISW_FIXED: u16 = 0b1111 << 4;
+const INPUT_NAMES: [&str; 3] = ["IO1", "IO2", "IO3"];
+
+/// Native velocity units per count per tick (counts/tick × 2^26).
+pub const VELOCITY_ONE: i64 = 1 << FRAC;
+
+/// A queue decoded from its header registers.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct QueueView {
+    pub base: usize,
+    /// Decoded header; `None` when the registers no longer hold a valid queue header.
+    pub header: Option<QueueHeader>,
+    /// Raw header words as stored (`R[base]`, `R[base+1]`).
+    pub raw: [u32; 2],
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct QueueHeader {
+    pub size: usize,
+    pub len: usize,
+    pub head: usize,
+    pub tail: usize,
+    /// Register index of slot 0.
+    pub first_slot_register: usize,
+    /// Every slot's current register value, slot 0 first (occupied or stale).
+    pub slots: Vec<i32>,
+    /// Occupied values from the tail (oldest) to the head (newest).
+    pub items: Vec<i32>,
+}
+
+impl QueueHeader {
+    /// Whether slot `index` currently holds a queued value.
+    pub fn is_occupied(&self, index: usize) -> bool {
+        if self.size == 0 || index >= self.size {
+            return false;
+        }
+        (index + self.size - self.tail) % self.size < self.len
+    }
+}
+
+/// What the last command did to a queue, for views that highlight it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct QueueAccess {
+    pub base: usize,
+    /// `init`, `push head`, `pop head`, `push tail`, `pop tail`, `read 0`, `read -1`, ...
+    pub action: String,
+    /// The slot written or read; `None` for init and for failed operations.
+    pub slot: Option<usize>,
+    /// False when the queue was full or empty (flag variant) or the command faulted.
+    pub ok: bool,
+    /// Why it failed, e.g. `full` or `empty`.
+    pub failure: Option<&'static str>,
+}
+
+impl SilverLode {
+    /// Every queue the program initialised, decoded from its registers as they are now.
+    pub fn queues(&self) -> Vec<QueueView> {
+        let regs = self.regs();
+        self.state()
+            .queue_bases
+            .iter()
+            .map(|&base| {
+                let base = base as usize;
+                let raw = [
+                    regs[base] as u32,
+                    regs.get(base + 1).map_or(0, |&v| v as u32),
+                ];
+                let header = RawQueue::decode(regs, base).map(|q| {
+                    let first = base + 2;
+                    let slots: Vec<i32> = regs[first..first + q.size as usize].to_vec();
+                    let items = (0..q.len)
+                        .map(|i| slots[((q.tail + i) % q.size) as usize])
+                        .collect();
+                    QueueHeader {
+                        size: q.size as usize,
+                        len: q.len as usize,
+                        head: q.head as usize,
+                        tail: q.tail as usize,
+                        first_slot_register: first,
+                        slots,
+                        items,
+                    }
+                });
+                QueueView { base, header, raw }
+            })
+            .collect()
+    }
+}
+
+impl MachineView for SilverLode {
+    fn dialect(&self) -> &'static str {
+        "silverlode"
+    }
+    fn tick_micros(&self) -> u32 {
+        TICK_MICROS
+    }
+    fn spaces(&self) -> Vec<SpaceInfo> {
+        vec![
+            SpaceInfo {
+                name: "R",
+                title: "Registers",
+                kind: SpaceKind::Registers,
+                len: REGISTERS as u32,
+            },
+            SpaceInfo {
+                name: "status",
+                title: "Status words",
+                kind: SpaceKind::Flags,
+                len: 2,
+            },
+            SpaceInfo {
+                name: "IO",
+                title: "Inputs",
+                kind: SpaceKind::Inputs,
+                len: 3,
+            },
+        ]
+    }
+    fn info(&self, loc: Loc) -> Option<LocInfo> {
+        match (loc.space, loc.index) {
+            (REGS, r) if (r as usize) < REGISTERS => {
+                let alias = ALIASES.iter().find(|a| u32::from(a.register) == r);
+                Some(LocInfo {
+                    alias: alias.map(|a| a.name),
+                    description: alias.map_or("user register", |a| a.description),
+                    ..LocInfo::word(format!("R{r}"), 32, true)
+                })
+            }
+            (STATUS, w @ 0..=1) => Some(LocInfo {
+                description: if w == 0 {
+                    "input status word"
+                } else {
+                    "program status word"
+                },
+                bits: if w == 0 { ISW_BITS } else { PSW_BITS },
+                format: Some(crate::machine::Format::Binary),
+                ..LocInfo::word(if w == 0 { "ISW" } else { "PSW" }.to_string(), 16, false)
+            }),
+            (INPUTS, i @ 0..=2) => Some(LocInfo {
+                description: "digital input (ISW bits 4–6)",
+                ..LocInfo::word(INPUT_NAMES[i as usize].to_string(), 1, false)
+            }),
+            _ => None,
+        }
+    }
+    fn read(&self, loc: Loc) -> u64 {
+        match (loc.space, loc.index) {
+            (REGS, r) => self.regs().get(r as usize).map_or(0, |&v| u64::from(v as u32)),
+            (STATUS, 0) => u64::from(self.isw()),
+            (STATUS, 1) => u64::from(self.psw()),
+            (INPUTS, i @ 0..=2) => u64::from(self.state().inputs >> i & 1),
+            _ => 0,
+        }
+    }
+    fn write(&mut self, loc: Loc, value: u64) -> Result<(), WriteError> {
+        let info = self.info(loc).ok_or(WriteError::NoSuchLocation)?;
+        if value > crate::machine::value::mask(info.width) {
+            return Err(WriteError::TooWide {
+                name: info.name,
+                value,
+                width: info.width,
+            });
+        }
+        match (loc.space, loc.index) {
+            (REGS, r) => self.set_reg(r as usize, value as u32 as i32),
+            (STATUS, w) => {
+                let (current, named) = if w == 0 {
+                    (self.isw(), ISW_BITS)
+                } else {
+                    (self.psw(), PSW_BITS)
+                };
+                let allowed = named.iter().fold(0u16, |m, b| m | 1 << b.bit)
+                    & if w == 0 { !ISW_FIXED } else { u16::MAX };
+                let changed = current ^ value as u16;
+                if changed & !allowed != 0 {
+                    let bit = changed & !allowed;
+                    return Err(WriteError::ReadOnly(format!(
+                        "{} bit {}",
+                        info.name,
+                        bit.trailing_zeros()
+                    )));
+                }
+                self.set_status_word(w == 0, value as u16);
+            }
+            (INPUTS, i) => self.set_io(i as usize, value != 0),
+            _ => return Err(WriteError::NoSuchLocation),
+        }
+        Ok(())
+    }
+    fn find(&self, name: &str) -> Option<Loc> {
+        let name = name.trim();
+        let upper = name.to_ascii_uppercase();
+        if let Some(n) = upper.strip_prefix('R')
+            && !n.is_empty()
+            && n.chars().all(|c| c.is_ascii_digit())
+        {
+            return n
+                .parse::<u32>()
+                .ok()
+                .filter(|&r| (r as usize) < REGISTERS)
+                .map(reg);
+        }
+        crate::machine::find_by_name(self, name)
+    }
+    fn used(&self) -> Vec<Loc> {
+        self.program()
+            .used_registers
+            .iter()
+            .map(|&r| reg(u32::from(r)))
+            .collect()
+    }
+    fn program_names(&self) -> Vec<(String, Loc)> {
+        self.program()
+            .register_names
+            .iter()
+            .map(|(n, r)| (n.clone(), reg(u32::from(*r))))
+            .collect()
+    }
+    fn pc_line(&self) -> Option<usize> {
+        self.line_of(self.pc())
+    }
+    fn call_stack_lines(&self) -> Vec<usize> {
+        let s = self.state();
+        s.stack[..s.sp as usize]
+            .iter()
+            .map(|&pc| self.line_of(pc).unwrap_or(0))
+            .collect()
+    }
+    fn run_state(&self) -> RunState {
+        self.state().run
+    }
+    fn fault(&self) -> Option<FaultInfo> {
+        let s = self.state();
+        if s.run != RunState::Faulted {
+            return None;
+        }
+        s.fault.as_ref().map(|f| FaultInfo {
+            kind: f.kind.code(),
+            message: f.message.clone(),
+            line: self.line_of(f.pc).unwrap_or(0),
+        })
+    }
+    fn pos(&self) -> Pos {
+        Pos::at_tick(self.state().ticks)
+    }
+    fn ticks(&self) -> u64 {
+        self.state().ticks
+    }
+    fn steps(&self) -> u64 {
+        self.state().steps
+    }
+    fn last_written(&self) -> Vec<Loc> {
+        self.written_by_last()
+            .into_iter()
+            .map(|r| reg(r as u32))
+            .collect()
+    }
+    fn explain_last(&self) -> Option<String> {
+        super::explain::explain(self)
+    }
+    fn last_line(&self) -> Option<usize> {
+        self.line_of(self.state().last.pc)
+    }
+    fn report_json(&self) -> String {
+        let mut out = String::from("\"registers\":{");
+        for (i, v) in self.regs().iter().enumerate() {
+            if i > 0 {
+                out.push(',');
+            }
+            let _ = write!(out, "\"{i}\":{v}");
+        }
+        let _ = write!(
+            out,
+            "}},\"isw\":{},\"psw\":{},\"queues\":[",
+            self.isw(),
+            self.psw()
+        );
+        let queues: Vec<String> = self
+            .queues()
+            .into_iter()
+            .filter_map(|q| {
+                // A header the program overwrote is not a queue any more; the runner lists
+                // only queues it can decode.
+                let h = q.header?;
+                let items: Vec<String> = h.items.iter().map(i32::to_string).collect();
+                Some(format!(
+                    "{{\"base\":{},\"size\":{},\"len\":{},\"head\":{},\"tail\":{},\"items\":[{}]}}",
+                    q.base,
+                    h.size,
+                    h.len,
+                    h.head,
+                    h.tail,
+                    items.join(",")
+                ))
+            })
+            .collect();
+        out.push_str(&queues.join(","));
+        out.push(']');
+        out
+    }
+    fn report_text(&self) -> String {
+        let mut out = String::new();
+        let (isw, psw) = (self.isw(), self.psw());
+        let _ = writeln!(
+            out,
+            "ISW: 0x{isw:04X} ({isw:016b})  PSW: 0x{psw:04X} ({psw:016b})"
+        );
+        let nonzero: Vec<String> = self
+            .regs()
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| **v != 0)
+            .map(|(i, v)| format!("R{i}={v}"))
+            .collect();
+        if nonzero.is_empty() {
+            let _ = writeln!(out, "registers: all zero");
+        } else {
+            let _ = writeln!(out, "registers (non-zero): {}", nonzero.join(" "));
+        }
+        for q in self.queues() {
+            if let Some(h) = q.header {
+                let _ = writeln!(
+                    out,
+                    "queue R{}: {}/{} head {} tail {} items (oldest first) {:?}",
+                    q.base, h.len, h.size, h.head, h.tail, h.items
+                );
+            }
+        }
+        out
+    }
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+impl Machine for SilverLode {
+    fn run_observed<F: FnMut(&Self) -> bool, O: FnMut(&Self)>(
+        &mut self,
+        limit: Pos,
+        stop: F,
+        observe: O,
+    ) -> StopReason {
+        // Every position of a SilverLode run is at a tick boundary: (t, s > 0) lies between
+        // (t, 0) and (t + 1, 0), so reaching it means finishing tick t.
+        let tick_limit = limit.tick.saturating_add(u64::from(limit.step > 0));
+        self.run_fast(tick_limit, stop, observe)
+    }
+}

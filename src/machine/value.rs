@@ -1,0 +1,324 @@
+//! Values as people read and type them, for locations of any width from 1 to 64 bits.
+
+use serde::{Deserialize, Serialize};
+
+/// How a value is shown.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+pub enum Format {
+    #[default]
+    Signed,
+    Unsigned,
+    Hex,
+    Binary,
+    Octal,
+    /// Binary-coded decimal: one decimal digit per nibble.
+    Bcd,
+    /// Q16.16 fixed point (signed, 16 fractional bits).
+    Q16,
+}
+
+impl Format {
+    pub const ALL: [Format; 7] = [
+        Format::Signed,
+        Format::Unsigned,
+        Format::Hex,
+        Format::Binary,
+        Format::Octal,
+        Format::Bcd,
+        Format::Q16,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::Signed => "signed",
+            Format::Unsigned => "unsigned",
+            Format::Hex => "hex",
+            Format::Binary => "binary",
+            Format::Octal => "octal",
+            Format::Bcd => "BCD",
+            Format::Q16 => "Q16.16",
+        }
+    }
+
+    /// `value` (the raw bits of a `width`-bit location) in this format.
+    pub fn show(self, value: u64, width: u8) -> String {
+        let value = value & mask(width);
+        match self {
+            Format::Signed => sign_extend(value, width).to_string(),
+            Format::Unsigned => value.to_string(),
+            Format::Hex => hex(value, width),
+            Format::Binary => binary(value, width),
+            Format::Octal => format!("0o{value:o}"),
+            Format::Bcd => bcd(value, width),
+            Format::Q16 => q16(sign_extend(value, width)),
+        }
+    }
+}
+
+/// All ones in the low `width` bits.
+pub fn mask(width: u8) -> u64 {
+    match width {
+        0 => 0,
+        1..=63 => (1u64 << width) - 1,
+        _ => u64::MAX,
+    }
+}
+
+/// The low `width` bits read as two's complement.
+pub fn sign_extend(value: u64, width: u8) -> i64 {
+    let width = u32::from(width.clamp(1, 64));
+    let shift = 64 - width;
+    ((value << shift) as i64) >> shift
+}
+
+/// Hex digits for the width, grouped by 16-bit words: `0x0000_ABCD`, `0x12`.
+pub fn hex(value: u64, width: u8) -> String {
+    let digits = usize::from(width.clamp(1, 64)).div_ceil(4);
+    let text = format!("{value:0digits$X}");
+    format!("0x{}", group_from_right(&text, 4, "_"))
+}
+
+/// Bits in nibbles, 16-bit words separated by a wider gap.
+pub fn binary(value: u64, width: u8) -> String {
+    let width = usize::from(width.clamp(1, 64));
+    let text = format!("{value:0width$b}");
+    let words: Vec<String> = chunks_from_right(&text, 16)
+        .into_iter()
+        .map(|w| group_from_right(&w, 4, " "))
+        .collect();
+    words.join("  ")
+}
+
+/// The nibbles as decimal digits; a nibble over 9 is shown in hex and the value marked.
+pub fn bcd(value: u64, width: u8) -> String {
+    let digits = usize::from(width.clamp(4, 64)).div_ceil(4);
+    let text = format!("{value:0digits$X}");
+    if text.chars().all(|c| c.is_ascii_digit()) {
+        let trimmed = text.trim_start_matches('0');
+        if trimmed.is_empty() {
+            "0".to_string()
+        } else {
+            trimmed.to_string()
+        }
+    } else {
+        format!("{text} (not BCD)")
+    }
+}
+
+/// The value read as signed Q16.16, to the six decimals a person reads.
+pub fn q16(value: i64) -> String {
+    let v = value as f64 / 65536.0;
+    let text = format!("{v:.6}");
+    let trimmed = text.trim_end_matches('0').trim_end_matches('.');
+    if trimmed.is_empty() || trimmed == "-" || trimmed == "-0" {
+        "0".to_string()
+    } else {
+        trimmed.to_string()
+    }
+}
+
+fn chunks_from_right(text: &str, size: usize) -> Vec<String> {
+    let chars: Vec<char> = text.chars().collect();
+    let first = chars.len() % size;
+    let mut out = Vec::new();
+    if first > 0 {
+        out.push(chars[..first].iter().collect());
+    }
+    out.extend(chars[first..].chunks(size).map(|c| c.iter().collect()));
+    out
+}
+
+fn group_from_right(text: &str, size: usize, separator: &str) -> String {
+    chunks_from_right(text, size).join(separator)
+}
+
+/// `round(x × 65536)`, ties away from zero, computed exactly from the decimal text; the result
+/// must fit a signed 32-bit word.
+pub fn parse_q16(inner: &str) -> Result<i64, String> {
+    let text = inner.trim();
+    let malformed = || format!("q16({text}) needs a decimal number, like q16(254.3467)");
+    let (negative, body) = match text.as_bytes().first() {
+        Some(b'-') => (true, &text[1..]),
+        Some(b'+') => (false, &text[1..]),
+        _ => (false, text),
+    };
+    let (int_part, frac_part) = body.split_once('.').unwrap_or((body, ""));
+    let int_digits: String = int_part.chars().filter(|&c| c != '_').collect();
+    let frac_digits: String = frac_part.chars().filter(|&c| c != '_').collect();
+    if int_digits.is_empty() && frac_digits.is_empty()
+        || !int_digits.chars().all(|c| c.is_ascii_digit())
+        || !frac_digits.chars().all(|c| c.is_ascii_digit())
+    {
+        return Err(malformed());
+    }
+    let significant = int_digits.trim_start_matches('0').len() + frac_digits.len();
+    if significant > 30 {
+        return Err(format!("q16({text}) has too many digits (at most 30)"));
+    }
+    let mantissa: u128 = format!("{int_digits}{frac_digits}")
+        .parse::<u128>()
+        .unwrap_or(0);
+    let scale = 10u128.pow(frac_digits.len() as u32);
+    let scaled = mantissa * 65536;
+    let mut q = scaled / scale;
+    if (scaled % scale) * 2 >= scale {
+        q += 1;
+    }
+    let value = if negative { -(q as i128) } else { q as i128 };
+    if !(i128::from(i32::MIN)..=i128::from(i32::MAX)).contains(&value) {
+        return Err(format!(
+            "q16({text}) does not fit in a signed 32-bit register (-32768 ..< 32768)"
+        ));
+    }
+    Ok(value as i64)
+}
+
+/// An integer as typed: optional sign, decimal, `0x`, `0b` or `0o`, `_` separators.
+pub fn parse_integer(text: &str) -> Result<i128, String> {
+    let malformed = || format!("'{text}' is not a number");
+    let (negative, body) = match text.as_bytes().first() {
+        Some(b'-') => (true, &text[1..]),
+        Some(b'+') => (false, &text[1..]),
+        _ => (false, text),
+    };
+    let lower = body.to_ascii_lowercase();
+    let (radix, digits) = if let Some(d) = lower.strip_prefix("0x") {
+        (16, d)
+    } else if let Some(d) = lower.strip_prefix("0b") {
+        (2, d)
+    } else if let Some(d) = lower.strip_prefix("0o") {
+        (8, d)
+    } else {
+        (10, lower.as_str())
+    };
+    if !digits.chars().any(|c| c.is_digit(radix)) {
+        return Err(malformed());
+    }
+    let mut value: i128 = 0;
+    for c in digits.chars() {
+        if c == '_' {
+            continue;
+        }
+        let d = c.to_digit(radix).ok_or_else(malformed)?;
+        value = value * i128::from(radix) + i128::from(d);
+        if value > i128::from(u64::MAX) {
+            return Err(format!("{text} does not fit in 64 bits"));
+        }
+    }
+    Ok(if negative { -value } else { value })
+}
+
+/// A value typed by a user for a `width`-bit location: decimal (signed or unsigned), `0x…`,
+/// `0b…`, `0o…`, `_` separators, `q16(…)` or `bcd(…)`. The result is the bit pattern to store.
+pub fn parse_value(text: &str, width: u8) -> Result<u64, String> {
+    let text = text.trim();
+    if text.is_empty() {
+        return Err("type a value: 42, -7, 0x2A, 0b101010, bcd(1234) or q16(1.5)".to_string());
+    }
+    let lower = text.to_ascii_lowercase();
+    let call = |name: &str| {
+        lower
+            .strip_prefix(name)
+            .and_then(|rest| rest.strip_prefix('('))
+            .and_then(|rest| rest.strip_suffix(')'))
+            .map(str::trim)
+    };
+    let value: i128 = if let Some(inner) = call("q16") {
+        i128::from(parse_q16(inner)?)
+    } else if let Some(inner) = call("bcd") {
+        parse_bcd(inner)?
+    } else {
+        parse_integer(text)?
+    };
+    let width = width.clamp(1, 64);
+    let min = -(1i128 << (width - 1));
+    let max = (1i128 << width) - 1;
+    if !(min..=max).contains(&value) {
+        return Err(format!("{text} does not fit in {width} bits ({min} ..= {max})"));
+    }
+    Ok((value as u64) & mask(width))
+}
+
+/// `bcd(1234)` = 0x1234: decimal digits as nibbles.
+fn parse_bcd(digits: &str) -> Result<i128, String> {
+    let digits: String = digits.chars().filter(|&c| c != '_').collect();
+    if digits.is_empty() || digits.len() > 16 || !digits.chars().all(|c| c.is_ascii_digit()) {
+        return Err(format!(
+            "bcd({digits}) needs 1 to 16 decimal digits, like bcd(1234)"
+        ));
+    }
+    i128::from_str_radix(&digits, 16).map_err(|e| e.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn formats_at_32_bits_read_as_before() {
+        let w = 32;
+        assert_eq!(Format::Signed.show(0xFFFF_FFF1, w), "-15");
+        assert_eq!(Format::Unsigned.show(0xFFFF_FFF1, w), "4294967281");
+        assert_eq!(Format::Hex.show(0xABCD_893F, w), "0xABCD_893F");
+        assert_eq!(
+            Format::Binary.show(0xABCD_893F, w),
+            "1010 1011 1100 1101  1000 1001 0011 1111"
+        );
+        assert_eq!(Format::Q16.show(98304, w), "1.5");
+        assert_eq!(Format::Q16.show(16668865, w), "254.346695");
+        assert_eq!(Format::Q16.show((-65536i32) as u32 as u64, w), "-1");
+        assert_eq!(Format::Q16.show(0, w), "0");
+    }
+
+    #[test]
+    fn formats_follow_the_width() {
+        assert_eq!(Format::Signed.show(0xFFFF, 16), "-1");
+        assert_eq!(Format::Unsigned.show(0xFFFF, 16), "65535");
+        assert_eq!(Format::Hex.show(0x1234, 16), "0x1234");
+        assert_eq!(Format::Hex.show(0x8000_0000_0000, 48), "0x8000_0000_0000");
+        assert_eq!(Format::Signed.show(0x8000_0000_0000, 48), "-140737488355328");
+        assert_eq!(Format::Binary.show(5, 4), "0101");
+        assert_eq!(Format::Binary.show(1, 1), "1");
+        assert_eq!(Format::Octal.show(0o1400, 16), "0o1400");
+        assert_eq!(Format::Bcd.show(0x0017_2056, 32), "172056");
+        assert_eq!(Format::Bcd.show(0x12A4, 16), "12A4 (not BCD)");
+        assert_eq!(Format::Signed.show(u64::MAX, 64), "-1");
+    }
+
+    #[test]
+    fn parses_what_people_type() {
+        assert_eq!(parse_value("42", 32), Ok(42));
+        assert_eq!(parse_value(" -7 ", 32), Ok(0xFFFF_FFF9));
+        assert_eq!(parse_value("-7", 16), Ok(0xFFF9));
+        assert_eq!(parse_value("0x2A", 32), Ok(42));
+        assert_eq!(parse_value("0b101010", 32), Ok(42));
+        assert_eq!(parse_value("0o1400", 16), Ok(0o1400));
+        assert_eq!(parse_value("4294967295", 32), Ok(u64::from(u32::MAX)));
+        assert_eq!(parse_value("q16(1.5)", 32), Ok(98304));
+        assert_eq!(parse_value("Q16(-1)", 32), Ok(0xFFFF_0000));
+        assert_eq!(parse_value("bcd(2056)", 16), Ok(0x2056));
+        assert_eq!(parse_value("1", 1), Ok(1));
+        assert!(parse_value("2", 1).is_err());
+        assert!(parse_value("65536", 16).is_err());
+        assert!(parse_value("", 32).is_err());
+        assert!(parse_value("4294967296", 32).is_err());
+        assert!(parse_value("12abc", 32).is_err());
+        assert!(parse_value("q16(x)", 32).is_err());
+        assert!(parse_value("bcd(12a)", 16).is_err());
+        assert_eq!(parse_value("-1", 64), Ok(u64::MAX));
+        assert!(parse_value("0x1_0000_0000_0000_0000", 64).is_err());
+    }
+
+    #[test]
+    fn q16_is_exact_from_decimal_text() {
+        assert_eq!(parse_q16("254.3467"), Ok(16668865));
+        assert_eq!(parse_q16("1"), Ok(65536));
+        assert_eq!(parse_q16("-1.5"), Ok(-98304));
+        assert_eq!(parse_q16("0.00000762939453125"), Ok(1));
+        assert_eq!(parse_q16("-0.00000762939453125"), Ok(-1));
+        assert!(parse_q16("32768").is_err());
+        assert_eq!(parse_q16("-32768"), Ok(i64::from(i32::MIN)));
+        assert!(parse_q16("abc").is_err());
+        assert!(parse_q16("").is_err());
+    }
+}
