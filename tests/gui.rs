@@ -10,7 +10,17 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use servoscope::debugger::Speed;
 use servoscope::machine::{Machine, MachineView, RunState};
+use servoscope::machine::silverlode::SilverLode;
+use servoscope::machine::silverlode::view::{io, reg};
 use servoscope::ui::{Prefs, ServoscopeApp};
+
+mod common;
+
+fn sl(app: &ServoscopeApp) -> &SilverLode {
+    app.debugger
+        .machine_as::<SilverLode>()
+        .expect("a SilverLode machine")
+}
 
 fn harness(app: ServoscopeApp) -> Harness<'static, ServoscopeApp> {
     let mut h = Harness::builder()
@@ -51,7 +61,7 @@ fn f10_moves_the_line_and_changes_a_register() {
     let before = h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(40);
     h.key_press(Key::F10);
     h.run_steps(2);
-    let m = h.state().debugger.machine();
+    let m = sl(h.state());
     assert_eq!(
         m.pc_line(),
         Some(15),
@@ -131,7 +141,7 @@ fn typing_a_value_into_a_register() {
     let mut h = harness(app_with("WRP 20, 5\nEND"));
     h.get_by_label("R20").click();
     h.run_steps(2);
-    assert_eq!(h.state().registers.selected, Some(20));
+    assert_eq!(h.state().registers.selected, Some(reg(20)));
     let field = h.get_by_label("Value of R20");
     field.focus();
     h.step();
@@ -214,7 +224,7 @@ fn a_fault_shows_its_banner_and_keeps_the_state() {
     h.key_press(Key::F5);
     h.run_steps(3);
     h.get_by_label("Fault: divide_by_zero at line 3");
-    let m = h.state().debugger.machine();
+    let m = sl(h.state());
     assert_eq!(m.run_state(), RunState::Faulted);
     assert_eq!(m.reg(10), 9);
 }
@@ -228,7 +238,7 @@ fn inputs_toggle_while_running() {
     assert!(h.state().debugger.is_running(), "waiting for IO2");
     h.get_by_label("IO2").click();
     h.run_steps(3);
-    assert!(h.state().debugger.machine().read(io(1 as u32)) == 1);
+    assert!(h.state().debugger.machine().read(io(1)) == 1);
     assert_eq!(h.state().debugger.machine().run_state(), RunState::Ended);
 }
 
@@ -354,7 +364,7 @@ fn the_plot_appears_with_its_series_after_a_move() {
     h.key_press(Key::F5);
     h.run_steps(4);
     assert_eq!(h.state().debugger.machine().run_state(), RunState::Ended);
-    h.get_by_label("Position");
+    h.get_by_label("Plot");
     h.get_by_label("target (R0)");
     h.get_by_label("actual (R1)");
     let trace = h.state().debugger.trace();
@@ -381,24 +391,25 @@ fn csv_export_writes_the_trace() {
     let mut lines = text.lines();
     assert_eq!(
         lines.next(),
-        Some("tick,time_ms,target,actual,error,velocity")
+        Some("tick,time_ms,target (R0),actual (R1),error (R6)"),
+        "one column per plot channel, named as in the legend"
     );
     let rows: Vec<Vec<f64>> = lines
         .map(|l| l.split(',').map(|v| v.parse().expect("number")).collect())
         .collect();
-    assert_eq!(rows[0], vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.0], "the start");
+    assert_eq!(rows[0], vec![0.0, 0.0, 0.0, 0.0, 0.0], "the start");
     assert_eq!(
         rows[1][..5],
         [1.0, 0.12, 40.0, 0.0, 40.0],
         "WRP 0, 40 in tick 1: error 40"
     );
     // Every row is the machine at that tick: replay and compare.
-    let mut m = servoscope::runner::load("WRP 0, 40\nDLY 30\nEND").unwrap();
+    let mut m = common::load("WRP 0, 40\nDLY 30\nEND").unwrap();
     for row in &rows {
         while m.ticks() < row[0] as u64 {
             m.step_tick();
         }
-        let want = [m.reg(0), m.reg(1), m.reg(6), m.reg(7)].map(f64::from);
+        let want = [m.reg(0), m.reg(1), m.reg(6)].map(f64::from);
         assert_eq!(row[2..], want, "tick {}", row[0]);
         assert!((row[1] - row[0] * 0.12).abs() < 1e-9);
     }
@@ -417,7 +428,7 @@ fn stepping_back_with_the_keys() {
     assert_eq!(h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(12), 2);
     h.key_press_modifiers(Modifiers::SHIFT, Key::F10);
     h.run_steps(2);
-    let m = h.state().debugger.machine();
+    let m = sl(h.state());
     assert_eq!(
         (m.reg(12), m.ticks(), m.pc_line()),
         (0, 21, Some(3)),
@@ -436,7 +447,7 @@ fn stepping_back_with_the_keys() {
     h.run_steps(3);
     h.key_press_modifiers(Modifiers::SHIFT, Key::F5);
     h.run_steps(2);
-    let m = h.state().debugger.machine();
+    let m = sl(h.state());
     assert_eq!(m.pc_line(), Some(4));
     assert!(
         m.ticks() < 200 && m.ticks() > 190,
@@ -473,7 +484,7 @@ fn clicking_the_plot_goes_to_that_tick() {
     h.key_press(Key::F5);
     h.run_steps(4);
     let end = h.state().debugger.machine().ticks();
-    let header = h.get_by_label("Position").rect();
+    let header = h.get_by_label("Plot").rect();
     let target = egui::pos2(header.center().x + 120.0, header.bottom() + 80.0);
     h.input_mut().events.push(egui::Event::PointerMoved(target));
     h.step();
@@ -520,7 +531,7 @@ fn sessions_save_with_ctrl_s_and_reopen() {
     assert!(session_file.exists());
     assert!(!h.state().window_title().ends_with('●'), "saved");
     assert!(h.state().window_title().contains("[work.ron]"));
-    let saved_machine = h.state().debugger.machine().clone();
+    let saved_machine = sl(h.state()).clone();
 
     // More work, then open the session again: the prompt asks first.
     h.key_press(Key::F10);
@@ -535,7 +546,7 @@ fn sessions_save_with_ctrl_s_and_reopen() {
     h.run_steps(2);
     assert!(h.state().pending.is_none());
     assert_ne!(
-        h.state().debugger.machine(),
+        sl(h.state()),
         &saved_machine,
         "cancel kept the current state"
     );
@@ -548,7 +559,7 @@ fn sessions_save_with_ctrl_s_and_reopen() {
     h.run_steps(2);
     let app = h.state();
     assert_eq!(
-        app.debugger.machine(),
+        sl(app),
         &saved_machine,
         "exactly the saved moment"
     );
@@ -560,7 +571,7 @@ fn sessions_save_with_ctrl_s_and_reopen() {
     std::fs::write(&bad, "(format: 1, dialect: \"silverlode\", program: ").unwrap();
     h.state_mut().open_path(bad);
     h.run_steps(2);
-    assert_eq!(h.state().debugger.machine(), &saved_machine);
+    assert_eq!(sl(h.state()), &saved_machine);
     h.get_by_label_contains("not a readable session file");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -570,30 +581,31 @@ fn the_servo_model_is_settable_and_saved_with_the_session() {
     let mut h = harness(app_with("WRP 0, 1000\nDLY 3000\nEND"));
     h.state_mut().apply(
         &egui::Context::default(),
-        servoscope::ui::Command::OpenServoSettings,
+        servoscope::ui::Command::OpenSettings,
     );
     h.run_steps(2);
     h.get_by_label("Natural frequency (Hz)");
     h.get_by_label("Damping ratio");
-    if let Some(draft) = h.state_mut().servo.draft.as_mut() {
-        draft.natural_frequency_hz = 80.0;
-        draft.holding_error_limit = 50;
+    if let Some(draft) = h.state_mut().settings.draft.as_mut() {
+        draft.insert("natural_frequency_hz".into(), 80.0);
+        draft.insert("holding_error_limit".into(), 50.0);
     }
     h.run_steps(1);
     h.get_by_label("Apply").click();
     h.run_steps(2);
-    let settings = h.state().debugger.settings();
+    let settings = h.state().debugger.settings().clone();
     assert_eq!(
-        (settings.natural_frequency_hz, settings.holding_error_limit),
-        (80.0, 50)
+        (settings["natural_frequency_hz"], settings["holding_error_limit"]),
+        (80.0, 50.0)
     );
+    let servo = sl(h.state()).settings();
     assert_eq!(
-        h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").settings(),
-        settings,
+        (servo.natural_frequency_hz, servo.holding_error_limit),
+        (80.0, 50),
         "the machine uses them"
     );
     assert_eq!(
-        h.state().session().servo,
+        h.state().session().settings,
         settings,
         "a saved session keeps them"
     );
@@ -601,7 +613,7 @@ fn the_servo_model_is_settable_and_saved_with_the_session() {
     h.state_mut().debugger.goto_tick(100);
     h.run_steps(3);
     let stiff = h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(1);
-    let mut soft = servoscope::runner::load("WRP 0, 1000\nDLY 3000\nEND").unwrap();
+    let mut soft = common::load("WRP 0, 1000\nDLY 3000\nEND").unwrap();
     for _ in 0..100 {
         soft.step_tick();
     }

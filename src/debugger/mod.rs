@@ -51,11 +51,12 @@ impl Speed {
         Speed::Unlimited,
     ];
 
-    pub fn label(self) -> String {
+    /// `10 commands/s`, in the dialect's word for a step.
+    pub fn label(self, steps: &str) -> String {
         match self {
             Speed::Unlimited => "unlimited".to_string(),
-            Speed::PerSecond(n) if n >= 1000.0 => format!("{}k commands/s", n / 1000.0),
-            Speed::PerSecond(n) => format!("{n} commands/s"),
+            Speed::PerSecond(n) if n >= 1000.0 => format!("{}k {steps}/s", n / 1000.0),
+            Speed::PerSecond(n) => format!("{n} {steps}/s"),
         }
     }
 }

@@ -94,6 +94,9 @@ pub struct Dialect {
     pub open: fn(source: &str, settings: &Settings) -> OpenResult,
     /// Colour class of every character of one line (without its newline).
     pub classify: fn(line: &str) -> Vec<TokenClass>,
+    /// The dialect's own panels in the window.
+    #[cfg(feature = "gui")]
+    pub panels: fn() -> Vec<Box<dyn crate::ui::panels::DialectPanel>>,
 }
 
 impl Dialect {

@@ -7,9 +7,8 @@ use egui::{FontId, Id, Rect, RichText, Sense, Stroke, TextStyle, Vec2, pos2, vec
 use super::Command;
 use super::theme::{Palette, palette};
 use crate::debugger::Debugger;
-use crate::machine::silverlode::assembler::{ALIASES, MNEMONICS};
-use crate::machine::silverlode::{ClcOp, CondBit, ExtOp};
-use crate::machine::{Diagnostic, Machine};
+use crate::machine::Diagnostic;
+use crate::machine::registry::TokenClass;
 
 pub const TEXT_ID: &str = "program_text";
 
@@ -34,106 +33,27 @@ impl CodeView {
     }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Kind {
-    Plain,
-    Mnemonic,
-    Operation,
-    Number,
-    Register,
-    Label,
-    Comment,
-    Condition,
-}
-
-fn kind_of_word(word: &str, first_word: bool) -> Kind {
-    let upper = word.to_ascii_uppercase();
-    if first_word && MNEMONICS.contains(&upper.as_str()) {
-        Kind::Mnemonic
-    } else if ClcOp::parse(word).is_some() || ExtOp::parse(word).is_some() {
-        Kind::Operation
-    } else if CondBit::parse(word).is_some() {
-        Kind::Condition
-    } else if ALIASES.iter().any(|(a, _)| a.eq_ignore_ascii_case(word))
-        || (upper.starts_with('R')
-            && upper.len() > 1
-            && upper[1..].chars().all(|c| c.is_ascii_digit()))
-    {
-        Kind::Register
-    } else if upper == "Q16" {
-        Kind::Number
-    } else {
-        Kind::Label
-    }
-}
-
-/// Colour classes for every character of one line (without its newline).
-fn classify(line: &str) -> Vec<Kind> {
-    let chars: Vec<char> = line.chars().collect();
-    let mut kinds = vec![Kind::Plain; chars.len()];
-    let mut i = 0;
-    let mut seen_word = false;
-    while i < chars.len() {
-        let c = chars[i];
-        if c == ';' {
-            kinds[i..].fill(Kind::Comment);
-            break;
-        }
-        if c.is_ascii_alphabetic() || c == '_' {
-            let start = i;
-            while i < chars.len() && (chars[i].is_ascii_alphanumeric() || chars[i] == '_') {
-                i += 1;
-            }
-            let word: String = chars[start..i].iter().collect();
-            let is_label_def = !seen_word && chars.get(i) == Some(&':');
-            let kind = if is_label_def {
-                Kind::Label
-            } else {
-                let k = kind_of_word(&word, !seen_word);
-                seen_word = true;
-                k
-            };
-            kinds[start..i].fill(kind);
-            if is_label_def {
-                kinds[i] = Kind::Label;
-                i += 1;
-            }
-            continue;
-        }
-        if c.is_ascii_digit() || (c == '-' && chars.get(i + 1).is_some_and(char::is_ascii_digit)) {
-            let start = i;
-            i += 1;
-            while i < chars.len()
-                && (chars[i].is_ascii_alphanumeric() || chars[i] == '_' || chars[i] == '.')
-            {
-                i += 1;
-            }
-            kinds[start..i].fill(Kind::Number);
-            continue;
-        }
-        if c == '!' {
-            kinds[i] = Kind::Condition;
-        }
-        i += 1;
-    }
-    kinds
-}
-
-fn color(p: &Palette, kind: Kind) -> egui::Color32 {
+fn color(p: &Palette, kind: TokenClass) -> egui::Color32 {
     match kind {
-        Kind::Plain => p.text,
-        Kind::Mnemonic => p.mnemonic,
-        Kind::Operation => p.operation,
-        Kind::Number => p.number,
-        Kind::Register => p.register,
-        Kind::Label => p.label,
-        Kind::Comment => p.comment,
-        Kind::Condition => p.condition,
+        TokenClass::Plain => p.text,
+        TokenClass::Mnemonic => p.mnemonic,
+        TokenClass::Operation => p.operation,
+        TokenClass::Number => p.number,
+        TokenClass::Location => p.register,
+        TokenClass::Label => p.label,
+        TokenClass::Comment => p.comment,
+        TokenClass::Condition => p.condition,
     }
 }
 
 /// The whole text as a coloured layout, errors underlined. The job's text is exactly `text`.
-pub fn highlight(text: &str, diagnostics: &[Diagnostic], p: &Palette, font: &FontId) -> LayoutJob {
+pub fn highlight(
+    text: &str,
+    classify: fn(&str) -> Vec<TokenClass>,
+    diagnostics: &[Diagnostic],
+    p: &Palette,
+    font: &FontId,
+) -> LayoutJob {
     let mut job = LayoutJob::default();
     for (index, line) in text.split_inclusive('\n').enumerate() {
         let number = index + 1;
@@ -162,7 +82,7 @@ pub fn highlight(text: &str, diagnostics: &[Diagnostic], p: &Palette, font: &Fon
                 0.0,
                 TextFormat {
                     font_id: font.clone(),
-                    color: color(p, kind.unwrap_or(Kind::Plain)),
+                    color: color(p, kind.unwrap_or(TokenClass::Plain)),
                     underline: if is_error == Some(true) {
                         Stroke::new(2.0, p.error)
                     } else {
@@ -275,8 +195,9 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                 }
 
                 let diagnostics = debugger.diagnostics();
+                let classify = debugger.dialect().classify;
                 let mut layouter = |ui: &egui::Ui, buf: &dyn egui::TextBuffer, _wrap: f32| {
-                    let job = highlight(buf.as_str(), diagnostics, &p, &font);
+                    let job = highlight(buf.as_str(), classify, diagnostics, &p, &font);
                     ui.fonts_mut(|f| f.layout_job(job))
                 };
                 let output = egui::TextEdit::multiline(&mut text)
@@ -441,21 +362,11 @@ mod tests {
     use super::*;
 
     #[test]
-    fn classify_colours_each_part() {
-        let kinds = classify("loop: CLD ADD, R25, 26, q16(1.5) ; hi");
-        assert!(kinds[0..5].iter().all(|&k| k == Kind::Label));
-        assert!(kinds[6..9].iter().all(|&k| k == Kind::Mnemonic));
-        assert!(kinds[10..13].iter().all(|&k| k == Kind::Operation));
-        assert!(kinds[15..18].iter().all(|&k| k == Kind::Register));
-        assert!(kinds[20..22].iter().all(|&k| k == Kind::Number));
-        assert_eq!(*kinds.last().unwrap(), Kind::Comment);
-    }
-
-    #[test]
     fn highlight_keeps_the_text_exactly() {
         let text = "WRP 11, 1\r\n\nbad: BOGUS ; x\nü\n";
         let diags = vec![Diagnostic::error(3, 6, 5, "unknown")];
-        let job = highlight(text, &diags, &palette(true), &FontId::monospace(12.0));
+        let classify = crate::machine::silverlode::syntax::classify;
+        let job = highlight(text, classify, &diags, &palette(true), &FontId::monospace(12.0));
         assert_eq!(job.text, text);
         let underlined: String = job
             .sections

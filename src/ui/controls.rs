@@ -3,9 +3,10 @@
 use egui::{Key, KeyboardShortcut, Modifiers};
 
 use super::code::CodeView;
-use super::{Command, EXAMPLES, ServoscopeApp};
+use super::{Command, ServoscopeApp};
 use crate::debugger::{Debugger, Speed};
-use crate::machine::Machine;
+use crate::machine::registry::{self, DIALECTS};
+use crate::machine::{Loc, MachineView, SpaceKind};
 
 pub const RUN: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F5);
 pub const PAUSE: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F6);
@@ -67,6 +68,17 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
     let ctx = ui.ctx().clone();
     egui::MenuBar::new().ui(ui, |ui| {
         ui.menu_button("File", |ui| {
+            ui.menu_button("New program", |ui| {
+                for d in DIALECTS {
+                    if ui
+                        .button(d.display_name)
+                        .on_hover_text(format!("An empty {} program (.{})", d.display_name, d.extensions[0]))
+                        .clicked()
+                    {
+                        out.push(Command::NewProgram(d.name));
+                    }
+                }
+            });
             let file_items = [
                 ("Open program or session…", &OPEN, Command::OpenDialog),
                 ("Save session", &SAVE, Command::SaveSession),
@@ -89,8 +101,12 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
                 }
             });
             ui.menu_button("Examples", |ui| {
-                for (i, (name, _)) in EXAMPLES.iter().enumerate() {
-                    if ui.button(*name).clicked() {
+                for (i, (dialect, name, _)) in registry::examples().enumerate() {
+                    if ui
+                        .button(name)
+                        .on_hover_text(dialect.display_name)
+                        .clicked()
+                    {
                         out.push(Command::LoadExample(i));
                     }
                 }
@@ -98,18 +114,17 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
         });
         ui.menu_button("Debug", |ui| {
             let target = app.code.target_line(&app.debugger);
+            let words = app.debugger.dialect().vocabulary;
+            let (step, step_back) = (format!("Step {}", words.step), format!("Step back {}", words.step));
+            let (tick, tick_back) = (format!("Step {}", words.tick), format!("Step back {}", words.tick));
             let items: [(&str, &KeyboardShortcut, Option<Command>); 11] = [
                 ("Run / Continue", &RUN, Some(Command::Run)),
                 ("Pause", &PAUSE, Some(Command::Pause)),
-                ("Step command", &STEP, Some(Command::StepCommand)),
-                ("Step tick", &STEP_TICK, Some(Command::StepTick)),
+                (&step, &STEP, Some(Command::StepCommand)),
+                (&tick, &STEP_TICK, Some(Command::StepTick)),
                 ("Reverse continue", &REVERSE, Some(Command::ReverseContinue)),
-                (
-                    "Step back command",
-                    &STEP_BACK,
-                    Some(Command::StepBackCommand),
-                ),
-                ("Step back tick", &TICK_BACK, Some(Command::StepBackTick)),
+                (&step_back, &STEP_BACK, Some(Command::StepBackCommand)),
+                (&tick_back, &TICK_BACK, Some(Command::StepBackTick)),
                 (
                     "Run to cursor",
                     &RUN_TO_CURSOR,
@@ -131,8 +146,13 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
             }
         });
         ui.menu_button("View", |ui| {
-            if ui.button("Servo model…").clicked() {
-                out.push(Command::OpenServoSettings);
+            let dialect = app.debugger.dialect();
+            if !dialect.settings.is_empty()
+                && ui
+                    .button(format!("{} settings…", dialect.display_name))
+                    .clicked()
+            {
+                out.push(Command::OpenSettings);
             }
             if ui.radio(app.prefs.dark, "Dark theme").clicked() {
                 out.push(Command::SetDark(true));
@@ -152,9 +172,43 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
     });
 }
 
-pub fn toolbar(ui: &mut egui::Ui, debugger: &Debugger, out: &mut Vec<Command>) {
+/// Inputs shown as switches: all of a small input space; of a large one (X0–X1777), those the
+/// program uses, those that are on and those the user added.
+pub fn shown_inputs(m: &dyn MachineView, extra: &[Loc]) -> Vec<Loc> {
+    let used = m.used();
+    let mut out = Vec::new();
+    for (s, space) in m.spaces().iter().enumerate() {
+        if space.kind != SpaceKind::Inputs {
+            continue;
+        }
+        let s = s as u8;
+        if space.len <= 16 {
+            out.extend((0..space.len).map(|i| Loc::new(s, i)));
+        } else {
+            out.extend(used.iter().copied().filter(|l| l.space == s));
+            out.extend(extra.iter().copied().filter(|l| l.space == s));
+            out.extend(
+                (0..space.len)
+                    .map(|i| Loc::new(s, i))
+                    .filter(|&l| m.read(l) != 0),
+            );
+        }
+    }
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
+pub fn toolbar(
+    ui: &mut egui::Ui,
+    debugger: &Debugger,
+    extra_inputs: &mut Vec<Loc>,
+    new_input: &mut String,
+    out: &mut Vec<Command>,
+) {
     let ctx = ui.ctx().clone();
     let machine = debugger.machine();
+    let words = debugger.dialect().vocabulary;
     let live = machine.run_state().is_live();
     let can_run = live && !debugger.has_errors();
     ui.horizontal(|ui| {
@@ -175,14 +229,20 @@ pub fn toolbar(ui: &mut egui::Ui, debugger: &Debugger, out: &mut Vec<Command>) {
         }
         if ui
             .add_enabled(can_run, egui::Button::new("Step"))
-            .on_hover_text(format!("Execute one command ({})", tip(&STEP)))
+            .on_hover_text(format!("Execute one {} ({})", words.step, tip(&STEP)))
             .clicked()
         {
             out.push(Command::StepCommand);
         }
+        let tick_button = super::timeline::capitalised(words.tick);
         if ui
-            .add_enabled(can_run, egui::Button::new("Tick"))
-            .on_hover_text(format!("Advance one tick of 120 µs ({})", tip(&STEP_TICK)))
+            .add_enabled(can_run, egui::Button::new(tick_button))
+            .on_hover_text(format!(
+                "Finish this {} ({} µs) ({})",
+                words.tick,
+                machine.tick_micros(),
+                tip(&STEP_TICK)
+            ))
             .clicked()
         {
             out.push(Command::StepTick);
@@ -205,11 +265,11 @@ pub fn toolbar(ui: &mut egui::Ui, debugger: &Debugger, out: &mut Vec<Command>) {
         ui.separator();
         let speed = debugger.speed();
         let combo = egui::ComboBox::new("speed", "Speed")
-            .selected_text(speed.label())
+            .selected_text(speed.label(words.steps))
             .show_ui(ui, |ui| {
                 for preset in Speed::PRESETS {
                     if ui
-                        .selectable_label(preset == speed, preset.label())
+                        .selectable_label(preset == speed, preset.label(words.steps))
                         .clicked()
                     {
                         out.push(Command::SetSpeed(preset));
@@ -218,12 +278,12 @@ pub fn toolbar(ui: &mut egui::Ui, debugger: &Debugger, out: &mut Vec<Command>) {
             });
         combo
             .response
-            .on_hover_text("Commands per second while running");
+            .on_hover_text(format!("{} per second while running", words.steps));
         ui.separator();
         ui.label("Inputs:");
-        for i in 0..machine.input_count() {
-            let high = machine.input(i);
-            let name = format!("IO{}", i + 1);
+        for loc in shown_inputs(machine, extra_inputs) {
+            let high = machine.read(loc) != 0;
+            let name = machine.info(loc).map_or_else(String::new, |i| i.name);
             let mut button = egui::Button::new(&name).selected(high);
             if high {
                 button = button.fill(egui::Color32::from_rgb(60, 170, 90));
@@ -233,8 +293,36 @@ pub fn toolbar(ui: &mut egui::Ui, debugger: &Debugger, out: &mut Vec<Command>) {
                 if high { "high" } else { "low" }
             ));
             if r.clicked() {
-                out.push(Command::SetInput(i, !high));
+                out.push(Command::SetInput(loc, !high));
             }
+        }
+        let large = machine
+            .spaces()
+            .iter()
+            .any(|s| s.kind == SpaceKind::Inputs && s.len > 16);
+        if large {
+            ui.menu_button("+", |ui| {
+                let label = ui.label("Show input");
+                let edit = ui
+                    .add(egui::TextEdit::singleline(new_input).desired_width(70.0))
+                    .labelled_by(label.id);
+                let entered = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+                if ui.button("Show").clicked() || entered {
+                    let found = machine.find(new_input).filter(|l| {
+                        machine
+                            .spaces()
+                            .get(usize::from(l.space))
+                            .is_some_and(|s| s.kind == SpaceKind::Inputs)
+                    });
+                    if let Some(loc) = found {
+                        extra_inputs.push(loc);
+                        new_input.clear();
+                        ui.close();
+                    }
+                }
+            })
+            .response
+            .on_hover_text("Show a switch for another input");
         }
     });
 }

@@ -76,7 +76,7 @@ impl PathRequest {
                 let dialog = rfd::FileDialog::new().set_title(purpose.title());
                 let picked = match purpose {
                     Purpose::OpenProgram => dialog
-                        .add_filter("Programs and sessions", &["qsl", "ron"])
+                        .add_filter("Programs and sessions", &openable_extensions())
                         .add_filter("All files", &["*"])
                         .pick_file(),
                     Purpose::SaveSession => dialog
@@ -230,4 +230,13 @@ pub fn dropped_files(ctx: &egui::Context, out: &mut Vec<Command>) {
     if let Some(path) = dropped.into_iter().next() {
         out.push(Command::OpenPath(path));
     }
+}
+
+/// Every dialect's program extensions, and `ron` for sessions.
+pub fn openable_extensions() -> Vec<&'static str> {
+    crate::machine::registry::DIALECTS
+        .iter()
+        .flat_map(|d| d.extensions.iter().copied())
+        .chain(["ron"])
+        .collect()
 }

@@ -5,10 +5,10 @@
 pub mod code;
 pub mod controls;
 pub mod files;
+pub mod panels;
 pub mod plot;
-pub mod queues;
 pub mod registers;
-pub mod servo;
+pub mod settings;
 pub mod status;
 pub mod theme;
 pub mod timeline;
@@ -18,34 +18,11 @@ use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
 
-use crate::debugger::format::Format;
-use crate::debugger::{Debugger, Speed};
-use crate::machine::Machine;
-use crate::session::{Session, ViewSettings};
-
-/// Example programs built into the binary, for the Examples menu and the start screen.
-pub const EXAMPLES: &[(&str, &str)] = &[
-    (
-        "fifo_moves.qsl",
-        include_str!("../../assets/examples/fifo_moves.qsl"),
-    ),
-    (
-        "fixed_point.qsl",
-        include_str!("../../assets/examples/fixed_point.qsl"),
-    ),
-    (
-        "homing.qsl",
-        include_str!("../../assets/examples/homing.qsl"),
-    ),
-    (
-        "lifo_undo.qsl",
-        include_str!("../../assets/examples/lifo_undo.qsl"),
-    ),
-    (
-        "call_ret.qsl",
-        include_str!("../../assets/examples/call_ret.qsl"),
-    ),
-];
+use crate::debugger::{ChannelChoice, Debugger, Speed};
+use crate::machine::registry::{self, Dialect, Settings};
+use crate::machine::{Format, Loc};
+use crate::session::{Session, ViewSettings, is_session_path};
+use panels::DialectPanel;
 
 /// The frame time aimed at while running unlimited (under 60 fps's 16.7 ms, with room for jitter).
 pub const TARGET_FRAME: Duration = Duration::from_millis(15);
@@ -74,10 +51,11 @@ pub enum Command {
     Assemble,
     EditSource(String),
     SetSpeed(Speed),
-    SetInput(usize, bool),
-    SetRegister(usize, u32),
-    ToggleRegisterBit(usize, u8),
-    SetStatusBit(&'static str, u8, bool),
+    SetInput(Loc, bool),
+    SetValue(Loc, u64),
+    ToggleBit(Loc, u8),
+    SetBit(Loc, u8, bool),
+    SetChannels(Vec<ChannelChoice>),
     StepBackCommand,
     StepBackTick,
     ReverseContinue,
@@ -94,10 +72,13 @@ pub enum Command {
     CancelPending,
     ExportDialog,
     ExportCsv(PathBuf),
+    /// An example of any dialect, by its index in [`registry::examples`].
     LoadExample(usize),
+    /// File → New: an empty program in the dialect with this name.
+    NewProgram(&'static str),
     SetDark(bool),
-    OpenServoSettings,
-    SetServo(crate::machine::silverlode::ServoSettings),
+    OpenSettings,
+    SetSettings(Settings),
 }
 
 /// Preferences kept between runs by eframe's storage (never the program state).
@@ -180,6 +161,7 @@ impl FrameStats {
 pub enum Pending {
     Open(PathBuf),
     Example(usize),
+    New(&'static str),
     Quit,
 }
 
@@ -197,8 +179,14 @@ pub struct ServoscopeApp {
     pub registers: registers::RegisterView,
     pub plot: plot::PlotView,
     pub timeline: timeline::TimelineView,
-    pub servo: servo::ServoView,
+    pub settings: settings::SettingsView,
     pub files: files::Files,
+    /// The current dialect's own panels, and the dialect they were made for.
+    panels: Vec<Box<dyn DialectPanel>>,
+    panels_for: &'static str,
+    /// Inputs of a large input space the user asked to see as switches.
+    pub extra_inputs: Vec<Loc>,
+    pub new_input: String,
     /// An action waiting for "discard unsaved changes?".
     pub pending: Option<Pending>,
     allow_close: bool,
@@ -215,8 +203,9 @@ pub struct ServoscopeApp {
 impl ServoscopeApp {
     /// The app on the first built-in example.
     pub fn new(prefs: Prefs) -> Self {
-        let (name, text) = EXAMPLES[0];
-        let mut debugger = Debugger::new(name, text);
+        let dialect = registry::default_dialect();
+        let (name, text) = dialect.examples.first().copied().unwrap_or(("new", dialect.new_program));
+        let mut debugger = Debugger::with_dialect(dialect, name, text);
         debugger.set_speed(prefs.speed);
         let registers = registers::RegisterView::new(&prefs);
         let mut app = ServoscopeApp {
@@ -229,8 +218,12 @@ impl ServoscopeApp {
             registers,
             plot: plot::PlotView::default(),
             timeline: timeline::TimelineView::default(),
-            servo: servo::ServoView::default(),
+            settings: settings::SettingsView::default(),
             files: files::Files::default(),
+            panels: (dialect.panels)(),
+            panels_for: dialect.name,
+            extra_inputs: Vec::new(),
+            new_input: String::new(),
             pending: None,
             allow_close: false,
             notice: None,
@@ -246,37 +239,53 @@ impl ServoscopeApp {
     }
 
     /// The app on a program or session file; if it cannot be read, on the built-in example
-    /// with a notice.
-    pub fn with_file(prefs: Prefs, path: PathBuf) -> Self {
+    /// with a notice. `dialect` overrides the program's extension.
+    pub fn with_file(prefs: Prefs, path: PathBuf, dialect: Option<&str>) -> Self {
         let mut app = ServoscopeApp::new(prefs);
-        app.open_path(path);
+        app.open_path_as(path, dialect.and_then(registry::by_name));
         app
     }
 
     /// The view settings a session keeps.
     pub fn view_settings(&self) -> ViewSettings {
+        let m = self.debugger.machine();
+        let name = |loc: Loc| m.info(loc).map(|i| i.name);
         ViewSettings {
             register_format: self.registers.format,
-            register_formats: self
+            formats: self
                 .registers
                 .overrides
                 .iter()
-                .map(|(&r, &f)| (r, f))
+                .filter_map(|(&loc, &f)| Some((name(loc)?, f)))
                 .collect(),
             only_used_registers: self.registers.only_used,
-            selected_register: self.registers.selected,
-            plot_velocity: self.plot.show_velocity,
+            selected: self.registers.selected.and_then(name),
             speed: self.debugger.speed(),
         }
     }
 
     fn apply_view_settings(&mut self, view: &ViewSettings) {
+        let m = self.debugger.machine();
         self.registers.format = view.register_format;
-        self.registers.overrides = view.register_formats.iter().copied().collect();
+        self.registers.overrides = view
+            .formats
+            .iter()
+            .filter_map(|(n, f)| Some((m.find(n)?, *f)))
+            .collect();
         self.registers.only_used = view.only_used_registers;
-        self.registers.selected = view.selected_register;
-        self.plot.show_velocity = view.plot_velocity;
+        self.registers.selected = view.selected.as_deref().and_then(|n| m.find(n));
         self.debugger.set_speed(view.speed);
+    }
+
+    /// Make the dialect panels match the debugger's dialect.
+    fn sync_panels(&mut self) {
+        let dialect = self.debugger.dialect();
+        if self.panels_for != dialect.name {
+            self.panels = (dialect.panels)();
+            self.panels_for = dialect.name;
+            self.extra_inputs.clear();
+            self.settings = settings::SettingsView::default();
+        }
     }
 
     /// The current debugging moment as a session.
@@ -314,19 +323,22 @@ impl ServoscopeApp {
         self.code.reset_view();
         self.plot.reset();
         self.registers.selected = None;
+        self.registers.overrides.clear();
         self.notice = None;
+        self.sync_panels();
     }
 
-    /// Open a program (`.qsl`) or a session (`.ron`). On failure the current session stays
-    /// and the user is told why.
+    /// Open a program (dialect by extension) or a session (`.ron`). On failure the current
+    /// session stays and the user is told why.
     pub fn open_path(&mut self, path: PathBuf) {
-        let is_session = path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("ron"));
-        let result = if is_session {
+        self.open_path_as(path, None);
+    }
+
+    fn open_path_as(&mut self, path: PathBuf, dialect: Option<&'static Dialect>) {
+        let result = if is_session_path(&path) {
             self.open_session(&path)
         } else {
-            self.open_program(&path)
+            self.open_program(&path, dialect)
         };
         match result {
             Ok(()) => {
@@ -341,23 +353,34 @@ impl ServoscopeApp {
         }
     }
 
-    /// Start over on a program given as text (an example, or a test's program).
+    /// Start over on a program given as text (an example, or a test's program), in the
+    /// current dialect.
     pub fn load_program(&mut self, name: &str, text: &str) {
-        self.debugger.load(name, text);
+        let dialect = self.debugger.dialect();
+        self.load_program_as(dialect, name, text);
+    }
+
+    /// Start over on a program given as text in `dialect`.
+    pub fn load_program_as(&mut self, dialect: &'static Dialect, name: &str, text: &str) {
+        self.debugger.load_as(dialect, name, text);
         self.path = None;
         self.session_path = None;
         self.fresh_views();
         self.mark_saved();
     }
 
-    fn open_program(&mut self, path: &Path) -> Result<(), String> {
+    fn open_program(&mut self, path: &Path, dialect: Option<&'static Dialect>) -> Result<(), String> {
+        let dialect = match dialect {
+            Some(d) => d,
+            None => registry::choose(path, None).map_err(|e| e.to_string())?,
+        };
         let text = std::fs::read_to_string(path)
             .map_err(|e| format!("Cannot open {}: {e}", path.display()))?;
         let name = path.file_name().map_or_else(
             || path.display().to_string(),
             |n| n.to_string_lossy().into_owned(),
         );
-        self.debugger.load(name, text);
+        self.debugger.load_as(dialect, name, text);
         self.path = Some(path.to_path_buf());
         self.session_path = None;
         self.fresh_views();
@@ -410,8 +433,14 @@ impl ServoscopeApp {
         match action {
             Pending::Open(path) => self.open_path(path),
             Pending::Example(i) => {
-                if let Some(&(name, text)) = EXAMPLES.get(i) {
-                    self.load_program(name, text);
+                if let Some((dialect, name, text)) = registry::examples().nth(i) {
+                    self.load_program_as(dialect, name, text);
+                }
+            }
+            Pending::New(name) => {
+                if let Some(dialect) = registry::by_name(name) {
+                    let file = format!("new.{}", dialect.extensions[0]);
+                    self.load_program_as(dialect, &file, dialect.new_program);
                 }
             }
             Pending::Quit => self.allow_close = true,
@@ -442,11 +471,25 @@ impl ServoscopeApp {
                 d.set_speed(speed);
                 self.prefs.speed = speed;
             }
-            Command::SetInput(i, high) => d.set_input(i, high),
-            Command::SetRegister(i, v) => d.set_register(i, v),
-            Command::ToggleRegisterBit(i, bit) => d.toggle_register_bit(i, bit),
-            Command::SetStatusBit(word, bit, on) => {
-                d.set_status_bit(word, bit, on);
+            Command::SetInput(loc, high) => {
+                let result = d.set_input(loc, high);
+                self.report(result);
+            }
+            Command::SetValue(loc, v) => {
+                let result = d.set_value(loc, v);
+                self.report(result);
+            }
+            Command::ToggleBit(loc, bit) => {
+                let result = d.toggle_bit(loc, bit);
+                self.report(result);
+            }
+            Command::SetBit(loc, bit, on) => {
+                let result = d.set_bit(loc, bit, on);
+                self.report(result);
+            }
+            Command::SetChannels(channels) => {
+                d.set_channels(channels);
+                self.plot.reset();
             }
             Command::OpenDialog => self.files.open.start(ctx),
             Command::OpenPath(path) => self.guarded(Pending::Open(path)),
@@ -469,6 +512,7 @@ impl ServoscopeApp {
                 }
             },
             Command::LoadExample(i) => self.guarded(Pending::Example(i)),
+            Command::NewProgram(name) => self.guarded(Pending::New(name)),
             Command::DiscardAndContinue => {
                 if let Some(action) = self.pending.take() {
                     self.perform(action);
@@ -479,11 +523,18 @@ impl ServoscopeApp {
             }
             Command::CancelPending => self.pending = None,
             Command::SetDark(dark) => self.prefs.dark = dark,
-            Command::OpenServoSettings => self.servo.open = true,
-            Command::SetServo(settings) => {
-                self.debugger.set_settings(settings);
-                self.servo.draft = None;
+            Command::OpenSettings => self.settings.open = true,
+            Command::SetSettings(settings) => {
+                self.debugger.set_settings(&settings);
+                self.settings.draft = None;
             }
+        }
+    }
+
+    /// A refused edit is said in the notice banner; nothing changed.
+    fn report(&mut self, result: Result<(), crate::debugger::EditError>) {
+        if let Err(e) = result {
+            self.notice = Some(format!("Not changed: {e}"));
         }
     }
 
@@ -531,7 +582,13 @@ impl ServoscopeApp {
 
         egui::Panel::top("menu").show(ui, |ui| {
             controls::menu_bar(ui, self, &mut commands);
-            controls::toolbar(ui, &self.debugger, &mut commands);
+            controls::toolbar(
+                ui,
+                &self.debugger,
+                &mut self.extra_inputs,
+                &mut self.new_input,
+                &mut commands,
+            );
         });
         egui::Panel::bottom("status_bar").show(ui, |ui| {
             status::status_bar(ui, &self.debugger);
@@ -562,17 +619,29 @@ impl ServoscopeApp {
                     // Content sizes itself to the panel, never the reverse.
                     let height = ui.available_height();
                     ui.set_min_height(height);
-                    if self.debugger.machine().queues().is_empty() {
-                        // No queue to draw: the plot takes the whole width.
-                        queues::show(ui, &self.debugger, height);
+                    let debugger = &self.debugger;
+                    let mut shown: Vec<&mut Box<dyn DialectPanel>> = self
+                        .panels
+                        .iter_mut()
+                        .filter(|p| p.has_content(debugger))
+                        .collect();
+                    if shown.is_empty() {
+                        // No dialect panel has anything to draw: each says so in one line
+                        // (what would make it appear) and the plot takes the width.
+                        for panel in self.panels.iter_mut() {
+                            panel.show(ui, debugger, 24.0, &mut commands);
+                        }
                         let rest = ui.available_height();
-                        plot::show(ui, &self.debugger, &mut self.plot, rest, &mut commands);
+                        plot::show(ui, debugger, &mut self.plot, rest, &mut commands);
                     } else {
                         ui.columns(2, |columns| {
-                            queues::show(&mut columns[0], &self.debugger, height);
+                            let each = height / shown.len() as f32;
+                            for panel in shown.iter_mut() {
+                                panel.show(&mut columns[0], debugger, each, &mut commands);
+                            }
                             plot::show(
                                 &mut columns[1],
-                                &self.debugger,
+                                debugger,
                                 &mut self.plot,
                                 height,
                                 &mut commands,
@@ -583,7 +652,7 @@ impl ServoscopeApp {
             code::show(ui, &self.debugger, &mut self.code, &mut commands);
         });
         self.files.windows(&ctx, &self.prefs, &mut commands);
-        servo::window(&ctx, &self.debugger, &mut self.servo, &mut commands);
+        settings::window(&ctx, &self.debugger, &mut self.settings, &mut commands);
         if self.pending.is_some() {
             unsaved_prompt(&ctx, self.pending.as_ref(), &mut commands);
         }
@@ -610,6 +679,7 @@ fn unsaved_prompt(ctx: &egui::Context, pending: Option<&Pending>, out: &mut Vec<
     let what = match pending {
         Some(Pending::Open(path)) => format!("opening {}", path.display()),
         Some(Pending::Example(_)) => "opening the example".to_string(),
+        Some(Pending::New(_)) => "starting a new program".to_string(),
         Some(Pending::Quit) | None => "closing servoscope".to_string(),
     };
     egui::Window::new("Unsaved changes")
@@ -653,9 +723,14 @@ impl eframe::App for ServoscopeApp {
     }
 }
 
-/// Start the window. `file`: a program to open instead of the built-in example.
-/// `frame_stats`: run it unlimited and report frame times over that many frames, then close.
-pub fn run_gui(file: Option<PathBuf>, frame_stats: Option<usize>) -> eframe::Result {
+/// Start the window. `file`: a program to open instead of the built-in example, in `dialect`
+/// when given. `frame_stats`: run it unlimited and report frame times over that many frames,
+/// then close.
+pub fn run_gui(
+    file: Option<PathBuf>,
+    dialect: Option<String>,
+    frame_stats: Option<usize>,
+) -> eframe::Result {
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title("servoscope")
@@ -673,7 +748,7 @@ pub fn run_gui(file: Option<PathBuf>, frame_stats: Option<usize>) -> eframe::Res
                 .and_then(|s| eframe::get_value(s, PREFS_KEY))
                 .unwrap_or_default();
             let mut app = match file {
-                Some(path) => ServoscopeApp::with_file(prefs, path),
+                Some(path) => ServoscopeApp::with_file(prefs, path, dialect.as_deref()),
                 None => ServoscopeApp::new(prefs),
             };
             if let Some(frames) = frame_stats {

@@ -1,6 +1,6 @@
-//! The register view: status words as named bits, R0–R199 in decimal, hex and binary with a
-//! display format per view or per register, a filter, and the bit grid of the selected register
-//! with in-place editing.
+//! The register view for any dialect: flag words and relays as named chips, every data location
+//! in the dialect's spaces with a display format per view or per location, a filter, and the
+//! bit grid of the selected location (any width, in 16-bit words) with in-place editing.
 
 use std::collections::BTreeMap;
 
@@ -10,15 +10,15 @@ use egui_extras::{Column, TableBuilder};
 use super::theme::palette;
 use super::{Command, Prefs};
 use crate::debugger::Debugger;
-use crate::debugger::format::{self, Format};
-use crate::machine::Machine;
+use crate::machine::value::{self, Format, sign_extend};
+use crate::machine::{Loc, LocInfo, MachineView, SpaceKind};
 
 pub struct RegisterView {
     pub format: Format,
-    /// Formats chosen for single registers (right-click a row).
-    pub overrides: BTreeMap<usize, Format>,
+    /// Formats chosen for single locations (right-click a row).
+    pub overrides: BTreeMap<Loc, Format>,
     pub only_used: bool,
-    pub selected: Option<usize>,
+    pub selected: Option<Loc>,
     pub edit_text: String,
     pub edit_error: Option<String>,
 }
@@ -35,36 +35,61 @@ impl RegisterView {
         }
     }
 
-    pub fn format_of(&self, register: usize) -> Format {
+    /// The format a location is shown in: its own, else its dialect's reading, else the view's.
+    pub fn format_of(&self, loc: Loc, info: &LocInfo) -> Format {
         self.overrides
-            .get(&register)
+            .get(&loc)
             .copied()
+            .or(info.format.filter(|_| self.format == Format::Signed))
             .unwrap_or(self.format)
     }
 
-    fn select(&mut self, register: usize, value: u32) {
-        if self.selected != Some(register) {
-            self.selected = Some(register);
-            self.edit_text = (value as i32).to_string();
+    pub fn select(&mut self, loc: Loc, m: &dyn MachineView) {
+        if self.selected != Some(loc) {
+            self.selected = Some(loc);
+            self.edit_text = signed_text(m, loc);
             self.edit_error = None;
         }
     }
 }
 
-/// Registers shown: those the program mentions (plus the dedicated ones) or all.
-pub fn visible_registers(debugger: &Debugger, only_used: bool) -> Vec<usize> {
-    let count = debugger.machine().register_count();
-    if !only_used {
-        return (0..count).collect();
-    }
-    let mut regs: Vec<usize> = [0, 1, 2, 4, 6, 7, 10]
-        .into_iter()
-        .chain(debugger.used_registers().iter().map(|&r| r as usize))
-        .filter(|&r| r < count)
+fn signed_text(m: &dyn MachineView, loc: Loc) -> String {
+    let width = m.info(loc).map_or(32, |i| i.width);
+    Format::Signed.show(m.read(loc), width)
+}
+
+/// Locations shown in the table: those the program mentions (plus the dedicated ones that have
+/// names) or every location of the data spaces.
+pub fn visible_locations(m: &dyn MachineView, only_used: bool) -> Vec<Loc> {
+    let spaces = m.spaces();
+    let data: Vec<u8> = spaces
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.kind == SpaceKind::Registers)
+        .map(|(i, _)| i as u8)
         .collect();
-    regs.sort_unstable();
-    regs.dedup();
-    regs
+    if !only_used {
+        return data
+            .iter()
+            .flat_map(|&s| (0..spaces[usize::from(s)].len).map(move |i| Loc::new(s, i)))
+            .collect();
+    }
+    let named = data.iter().flat_map(|&s| {
+        // Dedicated locations (those with an alias) are always worth seeing; scanning is
+        // bounded by the small spaces that have them.
+        let len = spaces[usize::from(s)].len.min(4096);
+        (0..len)
+            .map(move |i| Loc::new(s, i))
+            .filter(|&loc| m.info(loc).is_some_and(|i| i.alias.is_some()))
+    });
+    let mut locs: Vec<Loc> = named
+        .chain(m.used())
+        .chain(m.program_names().into_iter().map(|(_, l)| l))
+        .filter(|l| data.contains(&l.space))
+        .collect();
+    locs.sort_unstable();
+    locs.dedup();
+    locs
 }
 
 pub fn show(
@@ -73,7 +98,7 @@ pub fn show(
     view: &mut RegisterView,
     out: &mut Vec<Command>,
 ) {
-    status_words(ui, debugger, out);
+    flags(ui, debugger, out);
     ui.separator();
     ui.horizontal(|ui| {
         egui::ComboBox::new("register_format", "Format")
@@ -83,59 +108,98 @@ pub fn show(
                     ui.selectable_value(&mut view.format, f, f.name());
                 }
             });
-        ui.checkbox(&mut view.only_used, "Only registers this program uses");
+        ui.checkbox(&mut view.only_used, "Only what this program uses");
     });
-    if let Some(r) = view.selected {
+    if let Some(loc) = view.selected {
         ui.separator();
-        bit_grid(ui, debugger, view, r, out);
+        bit_grid(ui, debugger, view, loc, out);
     }
     ui.separator();
     table(ui, debugger, view);
 }
 
-fn status_words(ui: &mut egui::Ui, debugger: &Debugger, out: &mut Vec<Command>) {
+/// Flag words as rows of named-bit chips; single flag relays as one row of chips.
+fn flags(ui: &mut egui::Ui, debugger: &Debugger, out: &mut Vec<Command>) {
     let p = palette(ui.visuals().dark_mode);
-    for word in debugger.machine().status_words() {
-        ui.horizontal_wrapped(|ui| {
-            ui.spacing_mut().item_spacing = vec2(3.0, 3.0);
-            ui.add_sized(
-                [34.0, 18.0],
-                egui::Label::new(RichText::new(word.name).strong()),
-            )
-            .on_hover_text(format!(
-                "{} = 0x{:04X} = {:016b}",
-                word.name, word.value, word.value
-            ));
-            for bit in word.bits {
-                let on = word.is_set(bit.bit);
-                let text = RichText::new(bit.name).small().color(if on {
-                    egui::Color32::WHITE
+    let m = debugger.machine();
+    for (s, space) in m.spaces().iter().enumerate() {
+        if space.kind != SpaceKind::Flags {
+            continue;
+        }
+        let locs = (0..space.len).map(|i| Loc::new(s as u8, i));
+        let mut chip = |ui: &mut egui::Ui, loc: Loc, bit: u8, name: &str, tip: String, label: String| {
+            let on = m.read(loc) >> bit & 1 == 1;
+            let text = RichText::new(name).small().color(if on {
+                egui::Color32::WHITE
+            } else {
+                p.dim
+            });
+            let button = egui::Button::new(text)
+                .fill(if on {
+                    p.bit_on
                 } else {
-                    p.dim
-                });
-                let chip = egui::Button::new(text)
-                    .fill(if on {
-                        p.bit_on
-                    } else {
-                        p.bit_off.gamma_multiply(0.5)
-                    })
-                    .min_size(Vec2::ZERO);
-                let r = ui.add(chip);
-                let label = format!("{} {}", word.name, bit.name);
-                r.widget_info(|| {
-                    egui::WidgetInfo::selected(egui::Role::CheckBox, true, on, &label)
-                });
-                let r = r.on_hover_text(format!(
-                    "bit {}: {} ({}) — click to flip",
-                    bit.bit,
-                    bit.description,
-                    if on { "set" } else { "clear" }
-                ));
-                if r.clicked() {
-                    out.push(Command::SetStatusBit(word.name, bit.bit, !on));
-                }
+                    p.bit_off.gamma_multiply(0.5)
+                })
+                .min_size(Vec2::ZERO);
+            let r = ui.add(button);
+            r.widget_info(|| egui::WidgetInfo::selected(egui::Role::CheckBox, true, on, &label));
+            let r = r.on_hover_text(format!(
+                "{tip} ({}) — click to flip",
+                if on { "set" } else { "clear" }
+            ));
+            if r.clicked() {
+                out.push(Command::SetBit(loc, bit, !on));
             }
-        });
+        };
+        let words: Vec<(Loc, LocInfo)> = locs
+            .filter_map(|loc| m.info(loc).map(|i| (loc, i)))
+            .collect();
+        let singles: Vec<&(Loc, LocInfo)> = words.iter().filter(|(_, i)| i.width == 1).collect();
+        for (loc, info) in words.iter().filter(|(_, i)| i.width > 1) {
+            ui.horizontal_wrapped(|ui| {
+                ui.spacing_mut().item_spacing = vec2(3.0, 3.0);
+                let raw = m.read(*loc);
+                ui.add_sized(
+                    [34.0, 18.0],
+                    egui::Label::new(RichText::new(&info.name).strong()),
+                )
+                .on_hover_text(format!(
+                    "{} = {} = {}",
+                    info.name,
+                    value::hex(raw, info.width),
+                    value::binary(raw, info.width)
+                ));
+                for bit in info.bits {
+                    chip(
+                        ui,
+                        *loc,
+                        bit.bit,
+                        bit.name,
+                        format!("bit {}: {}", bit.bit, bit.description),
+                        format!("{} {}", info.name, bit.name),
+                    );
+                }
+            });
+        }
+        if !singles.is_empty() {
+            ui.horizontal_wrapped(|ui| {
+                ui.spacing_mut().item_spacing = vec2(3.0, 3.0);
+                ui.add_sized(
+                    [34.0, 18.0],
+                    egui::Label::new(RichText::new(space.title).strong()),
+                );
+                for (loc, info) in singles {
+                    chip(
+                        ui,
+                        *loc,
+                        0,
+                        &info.name,
+                        format!("{}: {}", info.name, info.description),
+                        info.name.clone(),
+                    );
+                }
+            });
+        }
     }
 }
 
@@ -143,21 +207,28 @@ fn bit_grid(
     ui: &mut egui::Ui,
     debugger: &Debugger,
     view: &mut RegisterView,
-    r: usize,
+    loc: Loc,
     out: &mut Vec<Command>,
 ) {
     let p = palette(ui.visuals().dark_mode);
-    let machine = debugger.machine();
-    let info = machine.register_info(r);
-    let value = machine.register(r);
+    let m = debugger.machine();
+    let Some(info) = m.info(loc) else {
+        view.selected = None;
+        return;
+    };
+    let raw = m.read(loc);
+    let width = info.width;
     if view.edit_text.is_empty() && view.edit_error.is_none() {
         // Selected from a session or a fresh view: start the field at the current value.
-        view.edit_text = (value as i32).to_string();
+        view.edit_text = Format::Signed.show(raw, width);
     }
     ui.horizontal(|ui| {
         ui.heading(&info.name);
         if let Some(alias) = info.alias {
             ui.label(RichText::new(alias).strong());
+        }
+        for (name, _) in m.program_names().iter().filter(|(_, l)| *l == loc) {
+            ui.label(RichText::new(name).italics());
         }
         ui.label(RichText::new(info.description).color(p.dim));
         if ui
@@ -170,86 +241,87 @@ fn bit_grid(
     });
     let cell = vec2(14.0, 18.0);
     let nibble_gap = 4.0;
-    let word_gap = 10.0;
-    let gap_after = |bit: u32| -> f32 {
-        if bit == 16 {
-            word_gap
-        } else if bit.is_multiple_of(4) && bit != 0 {
-            nibble_gap
-        } else {
-            0.0
-        }
-    };
-    let half_width = 16.0 * cell.x + 3.0 * nibble_gap;
-    ui.horizontal(|ui| {
-        ui.spacing_mut().item_spacing.x = 0.0;
-        ui.add_sized(
-            [half_width, 14.0],
-            egui::Label::new(RichText::new("HI word (bits 31–16)").small().color(p.dim)),
-        );
-        ui.add_space(word_gap);
-        ui.add_sized(
-            [half_width, 14.0],
-            egui::Label::new(RichText::new("LO word (bits 15–0)").small().color(p.dim)),
-        );
-    });
-    ui.horizontal(|ui| {
-        ui.spacing_mut().item_spacing.x = 0.0;
-        for bit in (0..32u32).rev() {
+    let words = u32::from(width).div_ceil(16);
+    // One row per 16-bit word, the most significant first.
+    for word in (0..words).rev() {
+        let low = word * 16;
+        let high = (low + 15).min(u32::from(width) - 1);
+        ui.horizontal(|ui| {
+            ui.spacing_mut().item_spacing.x = 0.0;
+            ui.spacing_mut().button_padding = vec2(0.0, 0.0);
             ui.add_sized(
-                [cell.x, 12.0],
-                egui::Label::new(RichText::new(bit.to_string()).size(8.5).color(p.dim)),
+                [64.0, cell.y],
+                egui::Label::new(
+                    RichText::new(format!("bits {high}–{low}"))
+                        .small()
+                        .color(p.dim),
+                ),
             );
-            ui.add_space(gap_after(bit));
-        }
-    });
-    ui.horizontal(|ui| {
-        ui.spacing_mut().item_spacing.x = 0.0;
-        ui.spacing_mut().button_padding = vec2(0.0, 0.0);
-        for bit in (0..32u32).rev() {
-            let on = value >> bit & 1 == 1;
-            let button = egui::Button::new(
-                RichText::new(if on { "1" } else { "0" })
-                    .monospace()
-                    .color(if on { egui::Color32::WHITE } else { p.dim }),
-            )
-            .fill(if on { p.bit_on } else { p.bit_off })
-            .min_size(cell);
-            let resp = ui.add_sized(cell, button);
-            let label = format!("{} bit {bit}", info.name);
-            resp.widget_info(|| egui::WidgetInfo::selected(egui::Role::CheckBox, true, on, &label));
-            if resp
-                .on_hover_text(format!("bit {bit} = {} — click to flip", u8::from(on)))
-                .clicked()
-            {
-                out.push(Command::ToggleRegisterBit(r, bit as u8));
-                view.edit_text = ((value ^ (1 << bit)) as i32).to_string();
-                view.edit_error = None;
+            for bit in (low..=high).rev() {
+                let on = raw >> bit & 1 == 1;
+                let button = egui::Button::new(
+                    RichText::new(if on { "1" } else { "0" })
+                        .monospace()
+                        .color(if on { egui::Color32::WHITE } else { p.dim }),
+                )
+                .fill(if on { p.bit_on } else { p.bit_off })
+                .min_size(cell);
+                let resp = ui.add_sized(cell, button);
+                let label = format!("{} bit {bit}", info.name);
+                resp.widget_info(|| {
+                    egui::WidgetInfo::selected(egui::Role::CheckBox, true, on, &label)
+                });
+                let name = info.bits.iter().find(|b| u32::from(b.bit) == bit);
+                let tip = match name {
+                    Some(b) => format!("bit {bit} {} = {} — click to flip", b.name, u8::from(on)),
+                    None => format!("bit {bit} = {} — click to flip", u8::from(on)),
+                };
+                if resp.on_hover_text(tip).clicked() {
+                    out.push(Command::ToggleBit(loc, bit as u8));
+                    view.edit_text = Format::Signed.show(raw ^ (1 << bit), width);
+                    view.edit_error = None;
+                }
+                if bit % 4 == 0 && bit != low {
+                    ui.add_space(nibble_gap);
+                }
             }
-            ui.add_space(gap_after(bit));
-        }
-    });
-    let hi = value >> 16;
-    let lo = value & 0xFFFF;
+        });
+    }
     egui::Grid::new("bit_readouts")
         .num_columns(4)
         .spacing([14.0, 2.0])
         .show(ui, |ui| {
-            ui.label("signed");
-            ui.monospace((value as i32).to_string());
-            ui.label("unsigned");
-            ui.monospace(value.to_string());
-            ui.end_row();
-            ui.label("hex");
-            ui.monospace(format::hex(value));
-            ui.label("Q16.16");
-            ui.monospace(format::q16(value));
-            ui.end_row();
-            ui.label("HI word");
-            ui.monospace(format!("0x{hi:04X} = {hi} = {}", hi as u16 as i16));
-            ui.label("LO word");
-            ui.monospace(format!("0x{lo:04X} = {lo} = {}", lo as u16 as i16));
-            ui.end_row();
+            let mut cells = vec![
+                ("signed", Format::Signed.show(raw, width)),
+                ("unsigned", Format::Unsigned.show(raw, width)),
+                ("hex", Format::Hex.show(raw, width)),
+                ("BCD", Format::Bcd.show(raw, width)),
+            ];
+            if width >= 17 {
+                cells.push(("Q16.16", Format::Q16.show(raw, width)));
+                cells.push(("octal", Format::Octal.show(raw, width)));
+            }
+            if width > 16 {
+                for word in (0..u32::from(width).div_ceil(16)).rev() {
+                    let w = raw >> (word * 16) & 0xFFFF;
+                    let name = match (word, width) {
+                        (1, 32) => "HI word".to_string(),
+                        (0, 32) => "LO word".to_string(),
+                        _ => format!("word {word}"),
+                    };
+                    cells.push((
+                        "",
+                        format!("{name}: 0x{w:04X} = {w} = {}", sign_extend(w, 16)),
+                    ));
+                }
+            }
+            for pair in cells.chunks(2) {
+                for (label, text) in pair {
+                    ui.label(*label);
+                    ui.monospace(text);
+                }
+                ui.end_row();
+            }
         });
     ui.horizontal(|ui| {
         let label = ui.label(format!("Value of {}", info.name));
@@ -257,14 +329,14 @@ fn bit_grid(
             .add(
                 egui::TextEdit::singleline(&mut view.edit_text)
                     .desired_width(150.0)
-                    .hint_text("42, 0x2A, 0b101, q16(1.5)"),
+                    .hint_text("42, 0x2A, 0b101, bcd(12), q16(1.5)"),
             )
             .labelled_by(label.id);
         let entered = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
         if ui.button("Set").clicked() || entered {
-            match format::parse_value(&view.edit_text) {
+            match value::parse_value(&view.edit_text, width) {
                 Ok(v) => {
-                    out.push(Command::SetRegister(r, v));
+                    out.push(Command::SetValue(loc, v));
                     view.edit_error = None;
                 }
                 Err(e) => view.edit_error = Some(e),
@@ -278,26 +350,27 @@ fn bit_grid(
 
 fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView) {
     let p = palette(ui.visuals().dark_mode);
-    let machine = debugger.machine();
-    let rows = visible_registers(debugger, view.only_used);
-    let written = machine.last_written();
+    let m = debugger.machine();
+    let rows = visible_locations(m, view.only_used);
+    let written = m.last_written();
+    let names = m.program_names();
     let row_height = ui.text_style_height(&egui::TextStyle::Monospace) + 4.0;
-    let mut clicked: Option<usize> = None;
+    let mut clicked: Option<Loc> = None;
     // Cells are read, not selected: clicks go to the row (select) and its context menu.
     ui.style_mut().interaction.selectable_labels = false;
-    let mut format_change: Option<(usize, Option<Format>)> = None;
+    let mut format_change: Option<(Loc, Option<Format>)> = None;
     TableBuilder::new(ui)
         .id_salt("register_table")
         .striped(true)
         .sense(Sense::click())
         .cell_layout(egui::Layout::left_to_right(egui::Align::Center))
-        .column(Column::exact(44.0))
+        .column(Column::exact(56.0))
         .column(Column::exact(84.0))
         .column(Column::initial(96.0).at_least(60.0).resizable(true))
-        .column(Column::exact(92.0))
+        .column(Column::exact(120.0))
         .column(Column::remainder().at_least(100.0))
         .header(20.0, |mut header| {
-            for title in ["Reg", "Name", "Value", "Hex", "Binary"] {
+            for title in ["Location", "Name", "Value", "Hex", "Binary"] {
                 header.col(|ui| {
                     ui.strong(title);
                 });
@@ -305,13 +378,15 @@ fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView) {
         })
         .body(|body| {
             body.rows(row_height, rows.len(), |mut row| {
-                let r = rows[row.index()];
-                let value = machine.register(r);
-                let info = machine.register_info(r);
-                let fresh = written.contains(&r);
+                let loc = rows[row.index()];
+                let Some(info) = m.info(loc) else {
+                    return;
+                };
+                let raw = m.read(loc);
+                let fresh = written.contains(&loc);
                 let colour = if fresh { p.written } else { p.text };
-                let format = view.format_of(r);
-                row.set_selected(view.selected == Some(r));
+                let format = view.format_of(loc, &info);
+                row.set_selected(view.selected == Some(loc));
                 row.col(|ui| {
                     let mut text = RichText::new(&info.name).monospace().color(colour);
                     if fresh {
@@ -320,21 +395,29 @@ fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView) {
                     ui.label(text);
                 });
                 row.col(|ui| {
-                    ui.label(RichText::new(info.alias.unwrap_or("")).small().color(p.dim));
+                    let own = names.iter().find(|(_, l)| *l == loc).map(|(n, _)| n.as_str());
+                    let name = info.alias.or(own).unwrap_or("");
+                    ui.label(RichText::new(name).small().color(p.dim));
                 });
                 row.col(|ui| {
-                    let mut shown = RichText::new(format.show(value)).monospace().color(colour);
-                    if view.overrides.contains_key(&r) {
+                    let mut shown = RichText::new(format.show(raw, info.width))
+                        .monospace()
+                        .color(colour);
+                    if view.overrides.contains_key(&loc) {
                         shown = shown.italics();
                     }
                     ui.label(shown);
                 });
                 row.col(|ui| {
-                    ui.label(RichText::new(format::hex(value)).monospace().color(colour));
+                    ui.label(
+                        RichText::new(value::hex(raw, info.width))
+                            .monospace()
+                            .color(colour),
+                    );
                 });
                 row.col(|ui| {
                     ui.label(
-                        RichText::new(format::binary(value))
+                        RichText::new(value::binary(raw, info.width))
                             .monospace()
                             .size(11.0)
                             .color(colour),
@@ -342,38 +425,38 @@ fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView) {
                 });
                 let response = row.response();
                 if response.clicked() {
-                    clicked = Some(r);
+                    clicked = Some(loc);
                 }
                 response.context_menu(|ui| {
                     ui.label(format!("Show {} as", info.name));
                     for f in Format::ALL {
                         if ui
                             .selectable_label(
-                                view.format_of(r) == f && view.overrides.contains_key(&r),
+                                view.overrides.get(&loc) == Some(&f),
                                 f.name(),
                             )
                             .clicked()
                         {
-                            format_change = Some((r, Some(f)));
+                            format_change = Some((loc, Some(f)));
                             ui.close();
                         }
                     }
                     if ui.button("Like the others").clicked() {
-                        format_change = Some((r, None));
+                        format_change = Some((loc, None));
                         ui.close();
                     }
                 });
             });
         });
-    if let Some(r) = clicked {
-        view.select(r, machine.register(r));
+    if let Some(loc) = clicked {
+        view.select(loc, m);
     }
     match format_change {
-        Some((r, Some(f))) => {
-            view.overrides.insert(r, f);
+        Some((loc, Some(f))) => {
+            view.overrides.insert(loc, f);
         }
-        Some((r, None)) => {
-            view.overrides.remove(&r);
+        Some((loc, None)) => {
+            view.overrides.remove(&loc);
         }
         None => {}
     }

@@ -5,7 +5,7 @@ use egui::RichText;
 
 use super::theme::palette;
 use crate::debugger::Debugger;
-use crate::machine::{Machine, RunState};
+use crate::machine::{Pos, RunState};
 
 /// The run state as the status bar words it.
 pub fn state_text(debugger: &Debugger) -> String {
@@ -16,7 +16,7 @@ pub fn state_text(debugger: &Debugger) -> String {
     match (debugger.is_running(), m.run_state()) {
         (true, RunState::Running) => "running".to_string(),
         (true, state) => format!("running ({})", state.label()),
-        (false, RunState::Running) if m.ticks() == 0 => "ready".to_string(),
+        (false, RunState::Running) if m.pos() == Pos::default() => "ready".to_string(),
         (false, RunState::Running) => "paused".to_string(),
         (false, state) => state.label().to_string(),
     }
@@ -25,6 +25,7 @@ pub fn state_text(debugger: &Debugger) -> String {
 pub fn status_bar(ui: &mut egui::Ui, debugger: &Debugger) {
     let p = palette(ui.visuals().dark_mode);
     let m = debugger.machine();
+    let words = debugger.dialect().vocabulary;
     let ms = m.ticks() as f64 * f64::from(m.tick_micros()) / 1000.0;
     ui.horizontal(|ui| {
         let state = state_text(debugger);
@@ -36,11 +37,21 @@ pub fn status_bar(ui: &mut egui::Ui, debugger: &Debugger) {
         };
         ui.label(RichText::new(state).color(colour).strong());
         ui.separator();
-        ui.monospace(format!("tick {}", m.ticks()));
+        let pos = m.pos();
+        if pos.step == 0 {
+            ui.monospace(format!("{} {}", words.tick, pos.tick));
+        } else {
+            // Inside a scan: how far into it.
+            ui.monospace(format!("{} {}, {} {}", words.tick, pos.tick, words.step, pos.step))
+                .on_hover_text(format!(
+                    "{} {} of {} {} have run",
+                    pos.step, words.steps, words.tick, pos.tick
+                ));
+        }
         ui.separator();
         ui.monospace(format!("{ms:.3} ms"));
         ui.separator();
-        ui.monospace(format!("steps {}", m.steps()));
+        ui.monospace(format!("{} {}", words.steps, m.steps()));
         if let Some(event) = debugger.event() {
             ui.separator();
             ui.label(RichText::new(event.describe()).color(p.dim));
@@ -78,7 +89,7 @@ pub fn fault_banner(ui: &mut egui::Ui, debugger: &Debugger) {
             ui.label(&fault.message);
             ui.label(
                 RichText::new(
-                    "Every register keeps its value: inspect them, then Reset (Ctrl+Shift+F5).",
+                    "Every location keeps its value: inspect them, then Reset (Ctrl+Shift+F5).",
                 )
                 .small()
                 .color(p.dim),

@@ -7,7 +7,6 @@ use super::Command;
 use super::theme::palette;
 use crate::debugger::Debugger;
 use crate::debugger::history::MarkKind;
-use crate::machine::Machine;
 
 #[derive(Default)]
 pub struct TimelineView {
@@ -22,10 +21,12 @@ pub fn show(
     out: &mut Vec<Command>,
 ) {
     let p = palette(ui.visuals().dark_mode);
-    let now = debugger.machine().ticks();
+    let words = debugger.dialect().vocabulary;
+    let pos = debugger.pos();
+    let now = pos.tick;
     let furthest = debugger.furthest_tick();
     ui.horizontal(|ui| {
-        let back_ok = now > 0 && !debugger.is_edited();
+        let back_ok = pos > crate::machine::Pos::default() && !debugger.is_edited();
         if ui
             .add_enabled(back_ok, egui::Button::new("Reverse"))
             .on_hover_text("Back to the previous breakpoint hit (Shift+F5)")
@@ -35,14 +36,14 @@ pub fn show(
         }
         if ui
             .add_enabled(back_ok, egui::Button::new("Step back"))
-            .on_hover_text("Undo the last command (Shift+F10)")
+            .on_hover_text(format!("Undo the last {} (Shift+F10)", words.step))
             .clicked()
         {
             out.push(Command::StepBackCommand);
         }
         if ui
-            .add_enabled(back_ok, egui::Button::new("Tick back"))
-            .on_hover_text("Back one tick (Shift+F11)")
+            .add_enabled(back_ok, egui::Button::new(format!("{} back", capitalised(words.tick))))
+            .on_hover_text(format!("Back to the start of this or the previous {} (Shift+F11)", words.tick))
             .clicked()
         {
             out.push(Command::StepBackTick);
@@ -55,7 +56,7 @@ pub fn show(
             .add_enabled(furthest > 0, egui::Slider::new(&mut tick, 0..=furthest.max(1)).show_value(false))
             .labelled_by(label.id)
             .on_hover_text(format!(
-                "Drag to any tick between 0 and {furthest}, the furthest reached. Marks: breakpoint hits (blue), faults (red)."
+                "Drag to any {} between 0 and {furthest}, the furthest reached. Marks: breakpoint hits (blue), faults (red).", words.tick
             ));
         if slider.changed() && tick != now {
             out.push(Command::GoToTick(tick));
@@ -69,11 +70,11 @@ pub fn show(
                 MarkKind::Breakpoint => p.mnemonic,
                 MarkKind::Fault => p.error,
             };
-            let x = x_of(m.tick);
+            let x = x_of(m.at.tick);
             painter.line_segment([egui::pos2(x, rail.top()), egui::pos2(x, rail.bottom())], Stroke::new(2.0, colour));
         }
         ui.label(RichText::new(format!("{now} / {furthest}")).monospace().color(p.dim));
-        let goto_label = ui.label("Go to tick");
+        let goto_label = ui.label(format!("Go to {}", words.tick));
         let edit = ui
             .add(egui::TextEdit::singleline(&mut view.goto_text).desired_width(80.0))
             .labelled_by(goto_label.id);
@@ -83,11 +84,20 @@ pub fn show(
                     view.goto_error = None;
                     out.push(Command::GoToTick(t));
                 }
-                Err(_) => view.goto_error = Some(format!("'{}' is not a tick number", view.goto_text.trim())),
+                Err(_) => view.goto_error = Some(format!("'{}' is not a {} number", view.goto_text.trim(), words.tick)),
             }
         }
         if let Some(e) = &view.goto_error {
             ui.label(RichText::new(e).color(p.error));
         }
     });
+}
+
+/// `scan` → `Scan`.
+pub fn capitalised(word: &str) -> String {
+    let mut chars = word.chars();
+    chars
+        .next()
+        .map(|c| c.to_uppercase().chain(chars).collect())
+        .unwrap_or_default()
 }

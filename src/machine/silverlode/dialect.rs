@@ -114,6 +114,8 @@ pub static DIALECT: Dialect = Dialect {
     new_program: "; A new SilverLode program\nWRP 11, 1\nEND\n",
     open,
     classify: super::syntax::classify,
+    #[cfg(feature = "gui")]
+    panels: super::queues_panel::panels,
 };
 
 /// The servo model from the dialect's settings (missing keys take their defaults).

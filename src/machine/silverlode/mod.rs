@@ -21,6 +21,9 @@ pub mod dialect;
 mod explain;
 pub mod motion;
 pub mod program;
+/// The one file of this folder that draws (egui), built only with the window.
+#[cfg(feature = "gui")]
+pub mod queues_panel;
 pub mod syntax;
 pub mod view;
 

@@ -1,4 +1,5 @@
-//! Every queue the program initialised, drawn as a ring of slots (a grid when a ring would be
+//! SilverLode's own panel (compiled with the `gui` feature only): every queue the program
+//! initialised, drawn as a ring of slots (a grid when a ring would be
 //! unreadable), with head (H, outside the ring) and tail (T, inside) pointers, `len / size`,
 //! FULL or EMPTY when they meet, the header words decoded bit by bit, and the slot the last
 //! command touched.
@@ -7,16 +8,43 @@ use std::f32::consts::TAU;
 
 use egui::{Align2, Color32, FontId, Pos2, Rect, RichText, Sense, Shape, Stroke, Vec2, pos2, vec2};
 
-use super::theme::{Palette, palette};
+use super::SilverLode;
+use super::view::{QueueAccess, QueueHeader, QueueView};
 use crate::debugger::Debugger;
-use crate::machine::{Machine, QueueAccess, QueueHeader, QueueView};
+use crate::ui::Command;
+use crate::ui::panels::DialectPanel;
+use crate::ui::theme::{Palette, palette};
+
+/// The queue rings, registered by SilverLode's dialect entry.
+pub struct QueuePanel;
+
+impl DialectPanel for QueuePanel {
+    fn title(&self) -> &'static str {
+        "Queues"
+    }
+    fn has_content(&self, debugger: &Debugger) -> bool {
+        debugger
+            .machine_as::<SilverLode>()
+            .is_some_and(|m| !m.queues().is_empty())
+    }
+    fn show(&mut self, ui: &mut egui::Ui, debugger: &Debugger, height: f32, _: &mut Vec<Command>) {
+        show(ui, debugger, height);
+    }
+}
+
+/// SilverLode's panels, for the registry.
+pub fn panels() -> Vec<Box<dyn DialectPanel>> {
+    vec![Box::new(QueuePanel)]
+}
 
 /// Largest queue drawn as a ring; bigger ones become a grid.
 pub const MAX_RING_SLOTS: usize = 12;
 
 pub fn show(ui: &mut egui::Ui, debugger: &Debugger, height: f32) {
     let p = palette(ui.visuals().dark_mode);
-    let machine = debugger.machine();
+    let Some(machine) = debugger.machine_as::<SilverLode>() else {
+        return;
+    };
     let queues = machine.queues();
     if queues.is_empty() {
         ui.horizontal(|ui| {

@@ -1,0 +1,16 @@
+//! A dialect's own panels (SilverLode's queue rings; later DL205's accumulator stack, TML's
+//! product register): a small trait, implemented in the dialect's folder and registered in its
+//! [`crate::machine::registry::Dialect`] entry. A panel appears only for its dialect.
+
+use super::Command;
+use crate::debugger::Debugger;
+
+pub trait DialectPanel {
+    fn title(&self) -> &'static str;
+    /// Whether there is anything to show now; without content the panel gives its space away.
+    fn has_content(&self, _debugger: &Debugger) -> bool {
+        true
+    }
+    /// Draw into `ui`, which is `height` points tall; emit what the user asks for.
+    fn show(&mut self, ui: &mut egui::Ui, debugger: &Debugger, height: f32, out: &mut Vec<Command>);
+}
