@@ -58,7 +58,11 @@ fn benches(c: &mut Criterion) {
         b.iter(|| {
             i += 1;
             d.goto_tick(tick_for(i));
-            black_box(d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(1))
+            black_box(
+                d.machine_as::<SilverLode>()
+                    .expect("a SilverLode machine")
+                    .reg(1),
+            )
         })
     });
     group.bench_function("step back one tick", |b| {

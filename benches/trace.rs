@@ -15,10 +15,7 @@ fn trace() -> Trace {
     let mut x: i64 = 0;
     for tick in 0..SAMPLES {
         x += ((tick * 2654435761) % 1000) as i64 - 499;
-        t.record(
-            tick,
-            &[x, x / 2, x % 97, tick as i64],
-        );
+        t.record(tick, &[x, x / 2, x % 97, tick as i64]);
     }
     assert_eq!(t.len() as u64, SAMPLES);
     t

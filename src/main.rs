@@ -90,11 +90,18 @@ fn main() -> ExitCode {
 }
 
 #[cfg(feature = "gui")]
-fn open_window(file: Option<PathBuf>, dialect: Option<String>, frame_stats: Option<usize>) -> ExitCode {
+fn open_window(
+    file: Option<PathBuf>,
+    dialect: Option<String>,
+    frame_stats: Option<usize>,
+) -> ExitCode {
     if let Some(name) = &dialect
         && registry::by_name(name).is_none()
     {
-        eprintln!("servoscope: {}", registry::ChooseError::UnknownName(name.clone()));
+        eprintln!(
+            "servoscope: {}",
+            registry::ChooseError::UnknownName(name.clone())
+        );
         return ExitCode::from(2);
     }
     match servoscope::ui::run_gui(file, dialect, frame_stats) {
@@ -109,7 +116,9 @@ fn open_window(file: Option<PathBuf>, dialect: Option<String>, frame_stats: Opti
 
 #[cfg(not(feature = "gui"))]
 fn open_window(_: Option<PathBuf>, _: Option<String>, _: Option<usize>) -> ExitCode {
-    eprintln!("servoscope: this build has no window (built without the `gui` feature); use `servoscope run FILE`");
+    eprintln!(
+        "servoscope: this build has no window (built without the `gui` feature); use `servoscope run FILE`"
+    );
     ExitCode::from(2)
 }
 
@@ -146,8 +155,7 @@ fn read_start(file: &Path, dialect: Option<&str>) -> Result<Start, String> {
         });
     }
     let dialect = registry::choose(file, dialect).map_err(|e| e.to_string())?;
-    let source =
-        std::fs::read_to_string(file).map_err(|e| format!("cannot read {name}: {e}"))?;
+    let source = std::fs::read_to_string(file).map_err(|e| format!("cannot read {name}: {e}"))?;
     let short = file
         .file_name()
         .map_or(name.clone(), |n| n.to_string_lossy().into_owned());
@@ -184,16 +192,17 @@ fn run(
             for d in &diagnostics {
                 eprintln!("{}", d.with_file(&name));
             }
-            return Err(format!("{name}: {} error(s), nothing run", diagnostics.len()));
+            return Err(format!(
+                "{name}: {} error(s), nothing run",
+                diagnostics.len()
+            ));
         }
     };
     let m = engine.machine();
     let events = match &start.session {
         // A session resumes at its saved tick; the events decide everything, so running on
         // from the start with them gives exactly the straight run's result.
-        Some(session) => session
-            .user_events(m, &name)
-            .map_err(|e| e.to_string())?,
+        Some(session) => session.user_events(m, &name).map_err(|e| e.to_string())?,
         None => {
             let mut events = Vec::new();
             for spec in sets {

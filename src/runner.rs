@@ -6,8 +6,8 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::debugger::history::{self, Change, UserEvent};
 use crate::debugger::Engine;
+use crate::debugger::history::{self, Change, UserEvent};
 use crate::machine::registry::{AtLimit, Dialect, Settings};
 use crate::machine::{Loc, Machine, MachineView, Pos, RunState, SpaceKind, value};
 use crate::session::{FORMAT_VERSION, Session, named_events};
@@ -24,7 +24,9 @@ pub struct InputToggle {
 pub enum ArgError {
     #[error("--input '{spec}': expected NAME=T1,T2,... with an input name such as {example}")]
     InputShape { spec: String, example: String },
-    #[error("--input '{spec}': '{name}' is not an input of this {dialect} program (inputs: {inputs})")]
+    #[error(
+        "--input '{spec}': '{name}' is not an input of this {dialect} program (inputs: {inputs})"
+    )]
     NotAnInput {
         spec: String,
         name: String,

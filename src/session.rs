@@ -393,15 +393,21 @@ impl Session {
     }
 
     /// The events with their locations resolved against the session's program.
-    pub fn user_events(&self, m: &dyn MachineView, path: &str) -> Result<Vec<UserEvent>, SessionError> {
+    pub fn user_events(
+        &self,
+        m: &dyn MachineView,
+        path: &str,
+    ) -> Result<Vec<UserEvent>, SessionError> {
         self.events
             .iter()
             .map(|e| {
-                let loc = m.find(&e.location).ok_or_else(|| SessionError::UnknownLocation {
-                    path: path.to_string(),
-                    location: e.location.clone(),
-                    dialect: m.dialect(),
-                })?;
+                let loc = m
+                    .find(&e.location)
+                    .ok_or_else(|| SessionError::UnknownLocation {
+                        path: path.to_string(),
+                        location: e.location.clone(),
+                        dialect: m.dialect(),
+                    })?;
                 Ok(UserEvent {
                     at: e.at,
                     loc,
@@ -489,7 +495,8 @@ mod tests {
             s.restore("huge.ron"),
             Err(SessionError::TooLong { .. })
         ));
-        let text = "(format: 2, dialect: \"silverlode\", program: \"l: JMP l\", at: (tick: 2000000000))";
+        let text =
+            "(format: 2, dialect: \"silverlode\", program: \"l: JMP l\", at: (tick: 2000000000))";
         let s = Session::from_ron(text, "huge.ron").expect("parses");
         assert!(matches!(
             s.restore("huge.ron"),

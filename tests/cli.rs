@@ -197,3 +197,102 @@ fn text_output_without_json() {
     assert!(text.contains("status: ended"), "{text}");
     assert!(text.contains("R11=42"), "{text}");
 }
+
+/// A program file with any extension (the dialect comes from it).
+fn file_named(text: &str, name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("servoscope-cli-named-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("write");
+    path
+}
+
+#[test]
+fn the_dialect_comes_from_the_extension_or_dialect() {
+    let txt = file_named("WRP 11, 42\nEND\n", "prog.txt");
+    let txt = txt.to_str().expect("utf-8");
+    let out = servoscope(&["run", txt, "--json"]);
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "an unknown extension is refused"
+    );
+    assert!(out.stdout.is_empty());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--dialect"), "says how to choose: {err}");
+    assert!(
+        err.contains("silverlode (.qsl)"),
+        "lists the dialects: {err}"
+    );
+
+    let out = servoscope(&["run", txt, "--dialect", "silverlode", "--json"]);
+    assert_eq!(out.status.code(), Some(0));
+    assert_eq!(json(&out)["registers"]["11"], 42);
+
+    let out = servoscope(&["run", txt, "--dialect", "cobol"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown dialect 'cobol'"));
+}
+
+#[test]
+fn set_gives_locations_initial_values() {
+    let f = program_file("CLD ADD, 12, 26, 1\nEND\n");
+    let out = servoscope(&[
+        "run",
+        f.path(),
+        "--set",
+        "R26=-5",
+        "--set",
+        "acc=0x10",
+        "--json",
+    ]);
+    assert_eq!(out.status.code(), Some(0));
+    let v = json(&out);
+    assert_eq!(v["registers"]["26"], -5);
+    assert_eq!(
+        v["registers"]["12"], -4,
+        "the program saw R26 = -5 from the start"
+    );
+    assert_eq!(v["registers"]["10"], 16, "by alias, in hex");
+    for bad in ["R200=1", "R26", "R26=0x1_0000_0000", "R26=many"] {
+        let out = servoscope(&["run", f.path(), "--set", bad]);
+        assert_eq!(out.status.code(), Some(2), "{bad}");
+        assert!(out.stdout.is_empty(), "{bad}");
+    }
+}
+
+#[test]
+fn set_and_inputs_are_recorded_in_a_saved_session() {
+    let f = program_file("WBS IO2\nCLD ADD, 12, 26, 1\nEND\n");
+    let saved = std::env::temp_dir().join(format!("servoscope-cli-set-{}.ron", std::process::id()));
+    let saved = saved.to_str().expect("utf-8");
+    let straight = servoscope(&[
+        "run",
+        f.path(),
+        "--set",
+        "R26=41",
+        "--input",
+        "IO2=7",
+        "--json",
+    ]);
+    assert_eq!(json(&straight)["registers"]["12"], 42);
+    let limited = servoscope(&[
+        "run",
+        f.path(),
+        "--set",
+        "R26=41",
+        "--input",
+        "IO2=7",
+        "--max-ticks",
+        "3",
+        "--save-session",
+        saved,
+    ]);
+    assert_eq!(limited.status.code(), Some(3));
+    let text = std::fs::read_to_string(saved).expect("saved");
+    assert!(text.contains("location: \"R26\""), "{text}");
+    assert!(text.contains("location: \"IO2\""), "{text}");
+    let resumed = servoscope(&["run", saved, "--json"]);
+    assert_eq!(resumed.stdout, straight.stdout, "the session replays both");
+    let _ = std::fs::remove_file(saved);
+}

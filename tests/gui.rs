@@ -9,9 +9,9 @@ use egui::{Key, Modifiers};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use servoscope::debugger::Speed;
-use servoscope::machine::{Machine, MachineView, RunState};
 use servoscope::machine::silverlode::SilverLode;
 use servoscope::machine::silverlode::view::{io, reg};
+use servoscope::machine::{Machine, MachineView, RunState};
 use servoscope::ui::{Prefs, ServoscopeApp};
 
 mod common;
@@ -58,7 +58,12 @@ fn opens_the_built_in_example_ready_to_step() {
 #[test]
 fn f10_moves_the_line_and_changes_a_register() {
     let mut h = harness(ServoscopeApp::new(Prefs::default()));
-    let before = h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(40);
+    let before = h
+        .state()
+        .debugger
+        .machine_as::<SilverLode>()
+        .expect("a SilverLode machine")
+        .reg(40);
     h.key_press(Key::F10);
     h.run_steps(2);
     let m = sl(h.state());
@@ -87,7 +92,12 @@ fn a_breakpoint_clicked_in_the_gutter_stops_a_run() {
     let d = &h.state().debugger;
     assert!(!d.is_running());
     assert_eq!(d.machine().pc_line(), Some(3));
-    assert_eq!(d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(12), 1);
+    assert_eq!(
+        d.machine_as::<SilverLode>()
+            .expect("a SilverLode machine")
+            .reg(12),
+        1
+    );
     h.get_by_label_contains("Breakpoint hit at line 3");
     // F9 on the same line (cursor not in the text: the pc line) removes it.
     h.key_press(Key::F9);
@@ -96,7 +106,14 @@ fn a_breakpoint_clicked_in_the_gutter_stops_a_run() {
     h.key_press(Key::F5);
     h.run_steps(3);
     assert_eq!(h.state().debugger.machine().run_state(), RunState::Ended);
-    assert_eq!(h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(12), 3);
+    assert_eq!(
+        h.state()
+            .debugger
+            .machine_as::<SilverLode>()
+            .expect("a SilverLode machine")
+            .reg(12),
+        3
+    );
 }
 
 #[test]
@@ -150,7 +167,14 @@ fn typing_a_value_into_a_register() {
     h.step();
     h.get_by_label("Set").click();
     h.run_steps(2);
-    assert_eq!(h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(20), 16);
+    assert_eq!(
+        h.state()
+            .debugger
+            .machine_as::<SilverLode>()
+            .expect("a SilverLode machine")
+            .reg(20),
+        16
+    );
 
     // A bad entry says why and changes nothing.
     h.get_by_label("Value of R20").focus();
@@ -160,7 +184,14 @@ fn typing_a_value_into_a_register() {
     h.step();
     h.get_by_label("Set").click();
     h.run_steps(2);
-    assert_eq!(h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(20), 16);
+    assert_eq!(
+        h.state()
+            .debugger
+            .machine_as::<SilverLode>()
+            .expect("a SilverLode machine")
+            .reg(20),
+        16
+    );
     h.get_by_label_contains("Not changed");
 }
 
@@ -172,10 +203,24 @@ fn clicking_a_bit_flips_it() {
     h.run_steps(2);
     h.get_by_label("R20 bit 3").click();
     h.run_steps(2);
-    assert_eq!(h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(20), 5 | 8);
+    assert_eq!(
+        h.state()
+            .debugger
+            .machine_as::<SilverLode>()
+            .expect("a SilverLode machine")
+            .reg(20),
+        5 | 8
+    );
     h.get_by_label("R20 bit 31").click();
     h.run_steps(2);
-    assert_eq!(h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(20) as u32, 0x8000_000D);
+    assert_eq!(
+        h.state()
+            .debugger
+            .machine_as::<SilverLode>()
+            .expect("a SilverLode machine")
+            .reg(20) as u32,
+        0x8000_000D
+    );
 }
 
 #[test]
@@ -297,7 +342,14 @@ fn dropping_a_file_on_the_window_opens_it() {
     );
     h.key_press(Key::F10);
     h.run_steps(1);
-    assert_eq!(h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(31), 7);
+    assert_eq!(
+        h.state()
+            .debugger
+            .machine_as::<SilverLode>()
+            .expect("a SilverLode machine")
+            .reg(31),
+        7
+    );
     let _ = std::fs::remove_file(&path);
 }
 
@@ -425,7 +477,14 @@ fn stepping_back_with_the_keys() {
         h.key_press(Key::F10);
         h.run_steps(1);
     }
-    assert_eq!(h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(12), 2);
+    assert_eq!(
+        h.state()
+            .debugger
+            .machine_as::<SilverLode>()
+            .expect("a SilverLode machine")
+            .reg(12),
+        2
+    );
     h.key_press_modifiers(Modifiers::SHIFT, Key::F10);
     h.run_steps(2);
     let m = sl(h.state());
@@ -469,7 +528,14 @@ fn the_timeline_and_go_to_tick() {
     h.key_press(Key::Enter);
     h.run_steps(2);
     assert_eq!(h.state().debugger.machine().ticks(), 250);
-    assert_eq!(h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(13), 125);
+    assert_eq!(
+        h.state()
+            .debugger
+            .machine_as::<SilverLode>()
+            .expect("a SilverLode machine")
+            .reg(13),
+        125
+    );
     assert_eq!(
         h.state().debugger.furthest_tick(),
         1000,
@@ -519,7 +585,10 @@ fn sessions_save_with_ctrl_s_and_reopen() {
     h.key_press(Key::F10);
     h.run_steps(2);
     h.state_mut().debugger.toggle_breakpoint(3);
-    h.state_mut().debugger.set_value(reg(30), 77).expect("a register edit");
+    h.state_mut()
+        .debugger
+        .set_value(reg(30), 77)
+        .expect("a register edit");
     h.run_steps(1);
     assert!(
         h.state().window_title().ends_with('●'),
@@ -558,13 +627,15 @@ fn sessions_save_with_ctrl_s_and_reopen() {
     h.get_by_label("Discard changes").click();
     h.run_steps(2);
     let app = h.state();
-    assert_eq!(
-        sl(app),
-        &saved_machine,
-        "exactly the saved moment"
-    );
+    assert_eq!(sl(app), &saved_machine, "exactly the saved moment");
     assert!(app.debugger.breakpoints().contains(&3));
-    assert_eq!(app.debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(30), 77);
+    assert_eq!(
+        app.debugger
+            .machine_as::<SilverLode>()
+            .expect("a SilverLode machine")
+            .reg(30),
+        77
+    );
 
     // A corrupt session is refused and the current one stays.
     let bad = dir.join("bad.ron");
@@ -595,7 +666,10 @@ fn the_servo_model_is_settable_and_saved_with_the_session() {
     h.run_steps(2);
     let settings = h.state().debugger.settings().clone();
     assert_eq!(
-        (settings["natural_frequency_hz"], settings["holding_error_limit"]),
+        (
+            settings["natural_frequency_hz"],
+            settings["holding_error_limit"]
+        ),
         (80.0, 50.0)
     );
     let servo = sl(h.state()).settings();
@@ -612,7 +686,12 @@ fn the_servo_model_is_settable_and_saved_with_the_session() {
     // A stiffer loop follows a step faster: after 100 ticks it is closer to the target.
     h.state_mut().debugger.goto_tick(100);
     h.run_steps(3);
-    let stiff = h.state().debugger.machine_as::<SilverLode>().expect("a SilverLode machine").reg(1);
+    let stiff = h
+        .state()
+        .debugger
+        .machine_as::<SilverLode>()
+        .expect("a SilverLode machine")
+        .reg(1);
     let mut soft = common::load("WRP 0, 1000\nDLY 3000\nEND").unwrap();
     for _ in 0..100 {
         soft.step_tick();

@@ -10,9 +10,9 @@ use std::time::Duration;
 
 use servoscope::debugger::history::CHECKPOINT_EVERY;
 use servoscope::debugger::{Debugger, Speed};
-use servoscope::machine::{Machine, MachineView, RunState};
 use servoscope::machine::silverlode::SilverLode;
 use servoscope::machine::silverlode::view::{ISW, io, reg};
+use servoscope::machine::{Machine, MachineView, RunState};
 use servoscope::session::{Session, SessionError, ViewSettings};
 
 fn temp(name: &str) -> PathBuf {
@@ -78,7 +78,10 @@ fn save_then_load_rebuilds_exactly_the_same_state() {
     session.save(&path).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
     assert!(text.contains("format: 2"), "explicit version");
-    assert!(text.contains("dialect: \"silverlode\""), "the dialect is recorded");
+    assert!(
+        text.contains("dialect: \"silverlode\""),
+        "the dialect is recorded"
+    );
     assert!(
         text.contains("location: \"IO2\""),
         "the input timeline is in the file, by input name"
@@ -264,14 +267,26 @@ fn a_session_saved_in_the_debugger_resumes_in_the_runner() {
         v["registers"]["30"], 0xBEEF,
         "the register edit was replayed"
     );
-    assert_eq!(v["registers"]["20"], d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(20));
-    assert_eq!(v["registers"]["1"], d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(1));
+    assert_eq!(
+        v["registers"]["20"],
+        d.machine_as::<SilverLode>()
+            .expect("a SilverLode machine")
+            .reg(20)
+    );
+    assert_eq!(
+        v["registers"]["1"],
+        d.machine_as::<SilverLode>()
+            .expect("a SilverLode machine")
+            .reg(1)
+    );
 }
 
-fn example(name: &str) -> (Session, Debugger) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("sessions")
-        .join(name);
+/// The lesson sessions as shipped, and the format-1 files kept unchanged as fixtures: both
+/// must restore to the same moments.
+const SESSION_DIRS: [&str; 2] = ["sessions", "tests/fixtures/format1"];
+
+fn example_in(dir: &str, name: &str) -> (Session, Debugger) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(dir).join(name);
     let s = Session::load(&path).unwrap_or_else(|e| panic!("{e}"));
     let d = s.restore(name).unwrap_or_else(|e| panic!("{e}"));
     (s, d)
@@ -296,39 +311,87 @@ fn every_example_session_is_tested() {
 }
 
 #[test]
+fn format_1_fixtures_are_format_1() {
+    for name in [
+        "fifo_queue_lesson.ron",
+        "fixed_point_lesson.ron",
+        "homing_on_input.ron",
+    ] {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/fixtures/format1")
+            .join(name);
+        let text = std::fs::read_to_string(path).unwrap();
+        assert!(text.contains("format: 1,"), "{name} stays a format-1 file");
+    }
+}
+
+#[test]
 fn fixed_point_lesson_opens_on_the_multiply() {
-    let (s, d) = example("fixed_point_lesson.ron");
+    for dir in SESSION_DIRS {
+        fixed_point_lesson(dir);
+    }
+}
+
+fn fixed_point_lesson(dir: &str) {
+    let (s, d) = example_in(dir, "fixed_point_lesson.ron");
     assert_eq!(
         d.machine().pc_line(),
         Some(16),
         "about to run MULT_S64_SHR16"
     );
-    assert_eq!(d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(20), 40000);
+    assert_eq!(
+        d.machine_as::<SilverLode>()
+            .expect("a SilverLode machine")
+            .reg(20),
+        40000
+    );
     assert!(d.breakpoints().contains(&16));
     assert_eq!(s.view.selected.as_deref(), Some("R21"));
     let mut d = d;
     d.step_command();
-    assert_eq!(d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(21), 1016, "(40000 × 1665) >> 16");
+    assert_eq!(
+        d.machine_as::<SilverLode>()
+            .expect("a SilverLode machine")
+            .reg(21),
+        1016,
+        "(40000 × 1665) >> 16"
+    );
 }
 
 #[test]
 fn fifo_queue_lesson_has_its_breakpoints() {
-    let (_, mut d) = example("fifo_queue_lesson.ron");
+    for dir in SESSION_DIRS {
+        fifo_queue_lesson(dir);
+    }
+}
+
+fn fifo_queue_lesson(dir: &str) {
+    let (_, mut d) = example_in(dir, "fifo_queue_lesson.ron");
     assert_eq!(d.machine().ticks(), 0);
     d.set_speed(Speed::Unlimited);
     d.run();
     while d.advance(0.016, Duration::from_secs(5)) {}
     assert_eq!(d.machine().pc_line(), Some(19), "stops on the first pop");
-    let h = d.machine_as::<SilverLode>().expect("a SilverLode machine").queues()[0].header.clone().unwrap();
+    let h = d
+        .machine_as::<SilverLode>()
+        .expect("a SilverLode machine")
+        .queues()[0]
+        .header
+        .clone()
+        .unwrap();
     assert_eq!(h.items, [1000, 2500, -500]);
 }
 
 #[test]
 fn homing_session_opens_stopped_on_the_sensor() {
-    let (_, d) = example("homing_on_input.ron");
-    let m = d
-        .machine_as::<SilverLode>()
-        .expect("a SilverLode machine");
+    for dir in SESSION_DIRS {
+        homing_session(dir);
+    }
+}
+
+fn homing_session(dir: &str) {
+    let (_, d) = example_in(dir, "homing_on_input.ron");
+    let m = d.machine_as::<SilverLode>().expect("a SilverLode machine");
     assert_eq!(m.ticks(), 3001);
     assert_eq!(d.machine().read(io(2)), 1, "IO3 high");
     assert!(m.isw() & 1 << 11 != 0, "input found");
@@ -338,7 +401,10 @@ fn homing_session_opens_stopped_on_the_sensor() {
     let mut straight = common::load(program).expect("assembles");
     straight.run_until(3000, |_| false);
     assert_eq!(m.reg(4), straight.reg(1), "R4 = R1 when IO3 rose");
-    assert!(m.reg(4) > 0 && m.reg(4) < 1_000_000, "the search had started");
+    assert!(
+        m.reg(4) > 0 && m.reg(4) < 1_000_000,
+        "the search had started"
+    );
     assert_eq!(m.run_state().label(), "waiting for move", "braking");
     let mut d = d;
     d.set_speed(Speed::Unlimited);

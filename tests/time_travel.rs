@@ -125,7 +125,9 @@ fn back_and_forth_gives_identical_states() {
         "the IO1 switch at tick 300 was replayed"
     );
     assert_eq!(
-        d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(30),
+        d.machine_as::<SilverLode>()
+            .expect("a SilverLode machine")
+            .reg(30),
         1234,
         "the edit at tick 500 was replayed"
     );
@@ -147,7 +149,13 @@ fn step_back_one_command_returns_to_its_start() {
         ),
         (51, 2, Some(3))
     );
-    assert_eq!(d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(12), 0, "WRP 12 undone");
+    assert_eq!(
+        d.machine_as::<SilverLode>()
+            .expect("a SilverLode machine")
+            .reg(12),
+        0,
+        "WRP 12 undone"
+    );
     d.step_back_command();
     assert_eq!(
         (d.machine().ticks(), d.machine().pc_line()),
@@ -155,7 +163,15 @@ fn step_back_one_command_returns_to_its_start() {
         "back over the whole DLY"
     );
     d.step_back_command();
-    assert_eq!((d.machine().ticks(), d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(11)), (0, 0));
+    assert_eq!(
+        (
+            d.machine().ticks(),
+            d.machine_as::<SilverLode>()
+                .expect("a SilverLode machine")
+                .reg(11)
+        ),
+        (0, 0)
+    );
     d.step_back_command();
     assert_eq!(d.machine().ticks(), 0, "nothing before the start");
     // Mid-command (stepped by ticks into the DLY), back goes to the DLY's start.
@@ -177,10 +193,21 @@ fn reverse_continue_finds_the_previous_breakpoint_hit() {
     d.toggle_breakpoint(2);
     d.reverse_continue();
     assert_eq!(d.machine().pc_line(), Some(2));
-    assert_eq!(d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(12), 2, "the third pass, about to increment");
+    assert_eq!(
+        d.machine_as::<SilverLode>()
+            .expect("a SilverLode machine")
+            .reg(12),
+        2,
+        "the third pass, about to increment"
+    );
     let third = d.machine().ticks();
     d.reverse_continue();
-    assert_eq!(d.machine_as::<SilverLode>().expect("a SilverLode machine").reg(12), 1);
+    assert_eq!(
+        d.machine_as::<SilverLode>()
+            .expect("a SilverLode machine")
+            .reg(12),
+        1
+    );
     assert!(d.machine().ticks() < third);
     d.reverse_continue();
     d.reverse_continue();
@@ -233,8 +260,11 @@ fn breakpoint_hits_and_faults_are_marked_on_the_timeline() {
     d.toggle_breakpoint(2);
     run_all(&mut d);
     run_all(&mut d);
-    let marks: Vec<(u64, MarkKind, usize)> =
-        d.marks().iter().map(|m| (m.at.tick, m.kind, m.line)).collect();
+    let marks: Vec<(u64, MarkKind, usize)> = d
+        .marks()
+        .iter()
+        .map(|m| (m.at.tick, m.kind, m.line))
+        .collect();
     assert_eq!(
         marks,
         vec![(1, MarkKind::Breakpoint, 2), (2, MarkKind::Fault, 3)]

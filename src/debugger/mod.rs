@@ -18,9 +18,7 @@ use std::time::{Duration, Instant};
 pub use engine::{Engine, StopWhen, engine};
 
 use crate::machine::registry::{self, Dialect, Settings};
-use crate::machine::{
-    Diagnostic, Loc, MachineView, Pos, RunState, SpaceKind, StopReason, value,
-};
+use crate::machine::{Diagnostic, Loc, MachineView, Pos, RunState, SpaceKind, StopReason, value};
 use history::{Change, Mark, MarkKind, UserEvent};
 use trace::{Channel, MAX_CHANNELS, Trace};
 
@@ -636,7 +634,10 @@ impl Debugger {
                     },
                 ),
                 Goal::ToTick(t) => {
-                    match self.engine.forward(chunk.min(Pos::at_tick(t)), &StopWhen::default()) {
+                    match self
+                        .engine
+                        .forward(chunk.min(Pos::at_tick(t)), &StopWhen::default())
+                    {
                         StopReason::TickLimit if self.pos().tick >= t => StopReason::Predicate,
                         other => other,
                     }
@@ -1051,8 +1052,14 @@ mod tests {
         let r20 = d.find("r20").expect("R20 exists");
         d.toggle_bit(r20, 0).expect("a register bit flips");
         assert_eq!(reg(&d, 20), 17);
-        assert!(matches!(d.set_text("R200", "1"), Err(EditError::Unknown(_))));
-        assert!(d.set_text("R20", "0x1_0000_0000").is_err(), "wider than 32 bits");
+        assert!(matches!(
+            d.set_text("R200", "1"),
+            Err(EditError::Unknown(_))
+        ));
+        assert!(
+            d.set_text("R20", "0x1_0000_0000").is_err(),
+            "wider than 32 bits"
+        );
         assert_eq!(reg(&d, 20), 17, "refused edits change nothing");
     }
 }

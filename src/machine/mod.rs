@@ -2,8 +2,8 @@
 //! face of a machine that the debugger, the window and the headless runner use.
 //!
 //! Nothing here does I/O or knows about egui. A dialect provides an assembler (text → program +
-//! diagnostics) and a machine implementing [`Machine`], and registers itself with one line in
-//! [`registry`]; the layers above talk only to [`MachineView`] (dynamic, for reading and
+//! diagnostics) and a machine implementing [`Machine`], and is registered by adding its name to
+//! the `dialects!` line below; the layers above talk only to [`MachineView`] (dynamic, for reading and
 //! editing) and to [`Machine`] (generic, for the run loops, so the hot loop is monomorphised).
 //!
 //! ## Positions: (tick, step)
@@ -14,8 +14,11 @@
 
 pub mod diagnostics;
 pub mod registry;
-pub mod silverlode;
 pub mod value;
+
+// The dialects: each a folder `src/machine/<name>/` whose `dialect::DIALECT` describes it.
+// Adding a dialect is adding its name here.
+registry::dialects!(silverlode);
 
 use std::any::Any;
 

@@ -8,8 +8,19 @@ use std::path::Path;
 use crate::debugger::Engine;
 use crate::machine::Diagnostic;
 
-/// Every registered dialect. The first one is the default (the built-in example at start-up).
-pub static DIALECTS: &[&Dialect] = &[&super::silverlode::dialect::DIALECT];
+pub use super::DIALECTS;
+
+/// Declares each dialect's folder as a module and lists its `dialect::DIALECT` in [`DIALECTS`]:
+/// `dialects!(silverlode, tml)` in `machine/mod.rs` is the one line that registers them.
+macro_rules! dialects {
+    ($($name:ident),+ $(,)?) => {
+        $(pub mod $name;)+
+        /// Every registered dialect. The first one is the default (the built-in example at
+        /// start-up).
+        pub static DIALECTS: &[&registry::Dialect] = &[$(&$name::dialect::DIALECT),+];
+    };
+}
+pub(crate) use dialects;
 
 /// A dialect's settings by key (SilverLode: the servo model). Stored in sessions.
 pub type Settings = BTreeMap<String, f64>;
@@ -182,7 +193,9 @@ pub enum ChooseError {
 pub fn choose(path: &Path, name: Option<&str>) -> Result<&'static Dialect, ChooseError> {
     match name {
         Some(n) => by_name(n).ok_or_else(|| ChooseError::UnknownName(n.to_string())),
-        None => by_path(path).ok_or_else(|| ChooseError::UnknownExtension(path.display().to_string())),
+        None => {
+            by_path(path).ok_or_else(|| ChooseError::UnknownExtension(path.display().to_string()))
+        }
     }
 }
 
@@ -200,7 +213,10 @@ mod tests {
     #[test]
     fn names_and_extensions_are_unique() {
         let mut names: Vec<&str> = DIALECTS.iter().map(|d| d.name).collect();
-        let mut exts: Vec<&str> = DIALECTS.iter().flat_map(|d| d.extensions.iter().copied()).collect();
+        let mut exts: Vec<&str> = DIALECTS
+            .iter()
+            .flat_map(|d| d.extensions.iter().copied())
+            .collect();
         let (n, e) = (names.len(), exts.len());
         names.sort_unstable();
         names.dedup();
@@ -217,7 +233,10 @@ mod tests {
         assert_eq!(choose(Path::new("a/b.QSL"), None), Ok(sl));
         assert_eq!(choose(Path::new("prog.txt"), Some("SilverLode")), Ok(sl));
         let unknown = choose(Path::new("prog.txt"), None).unwrap_err();
-        assert!(unknown.to_string().contains("silverlode (.qsl)"), "{unknown}");
+        assert!(
+            unknown.to_string().contains("silverlode (.qsl)"),
+            "{unknown}"
+        );
         assert!(matches!(
             choose(Path::new("a.qsl"), Some("cobol")),
             Err(ChooseError::UnknownName(_))

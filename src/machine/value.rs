@@ -234,7 +234,9 @@ pub fn parse_value(text: &str, width: u8) -> Result<u64, String> {
     let min = -(1i128 << (width - 1));
     let max = (1i128 << width) - 1;
     if !(min..=max).contains(&value) {
-        return Err(format!("{text} does not fit in {width} bits ({min} ..= {max})"));
+        return Err(format!(
+            "{text} does not fit in {width} bits ({min} ..= {max})"
+        ));
     }
     Ok((value as u64) & mask(width))
 }
@@ -276,7 +278,10 @@ mod tests {
         assert_eq!(Format::Unsigned.show(0xFFFF, 16), "65535");
         assert_eq!(Format::Hex.show(0x1234, 16), "0x1234");
         assert_eq!(Format::Hex.show(0x8000_0000_0000, 48), "0x8000_0000_0000");
-        assert_eq!(Format::Signed.show(0x8000_0000_0000, 48), "-140737488355328");
+        assert_eq!(
+            Format::Signed.show(0x8000_0000_0000, 48),
+            "-140737488355328"
+        );
         assert_eq!(Format::Binary.show(5, 4), "0101");
         assert_eq!(Format::Binary.show(1, 1), "1");
         assert_eq!(Format::Octal.show(0o1400, 16), "0o1400");

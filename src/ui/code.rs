@@ -366,7 +366,13 @@ mod tests {
         let text = "WRP 11, 1\r\n\nbad: BOGUS ; x\nü\n";
         let diags = vec![Diagnostic::error(3, 6, 5, "unknown")];
         let classify = crate::machine::silverlode::syntax::classify;
-        let job = highlight(text, classify, &diags, &palette(true), &FontId::monospace(12.0));
+        let job = highlight(
+            text,
+            classify,
+            &diags,
+            &palette(true),
+            &FontId::monospace(12.0),
+        );
         assert_eq!(job.text, text);
         let underlined: String = job
             .sections

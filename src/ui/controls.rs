@@ -72,7 +72,10 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
                 for d in DIALECTS {
                     if ui
                         .button(d.display_name)
-                        .on_hover_text(format!("An empty {} program (.{})", d.display_name, d.extensions[0]))
+                        .on_hover_text(format!(
+                            "An empty {} program (.{})",
+                            d.display_name, d.extensions[0]
+                        ))
                         .clicked()
                     {
                         out.push(Command::NewProgram(d.name));
@@ -115,8 +118,14 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
         ui.menu_button("Debug", |ui| {
             let target = app.code.target_line(&app.debugger);
             let words = app.debugger.dialect().vocabulary;
-            let (step, step_back) = (format!("Step {}", words.step), format!("Step back {}", words.step));
-            let (tick, tick_back) = (format!("Step {}", words.tick), format!("Step back {}", words.tick));
+            let (step, step_back) = (
+                format!("Step {}", words.step),
+                format!("Step back {}", words.step),
+            );
+            let (tick, tick_back) = (
+                format!("Step {}", words.tick),
+                format!("Step back {}", words.tick),
+            );
             let items: [(&str, &KeyboardShortcut, Option<Command>); 11] = [
                 ("Run / Continue", &RUN, Some(Command::Run)),
                 ("Pause", &PAUSE, Some(Command::Pause)),

@@ -204,7 +204,11 @@ impl ServoscopeApp {
     /// The app on the first built-in example.
     pub fn new(prefs: Prefs) -> Self {
         let dialect = registry::default_dialect();
-        let (name, text) = dialect.examples.first().copied().unwrap_or(("new", dialect.new_program));
+        let (name, text) = dialect
+            .examples
+            .first()
+            .copied()
+            .unwrap_or(("new", dialect.new_program));
         let mut debugger = Debugger::with_dialect(dialect, name, text);
         debugger.set_speed(prefs.speed);
         let registers = registers::RegisterView::new(&prefs);
@@ -369,7 +373,11 @@ impl ServoscopeApp {
         self.mark_saved();
     }
 
-    fn open_program(&mut self, path: &Path, dialect: Option<&'static Dialect>) -> Result<(), String> {
+    fn open_program(
+        &mut self,
+        path: &Path,
+        dialect: Option<&'static Dialect>,
+    ) -> Result<(), String> {
         let dialect = match dialect {
             Some(d) => d,
             None => registry::choose(path, None).map_err(|e| e.to_string())?,

@@ -121,7 +121,12 @@ fn readout(trace: &Trace, channels: &[Channel], tick: u64, micros: f64) -> Optio
 }
 
 /// The channel list with remove buttons, and a field to add one.
-fn channel_editor(ui: &mut egui::Ui, debugger: &Debugger, view: &mut PlotView, out: &mut Vec<Command>) {
+fn channel_editor(
+    ui: &mut egui::Ui,
+    debugger: &Debugger,
+    view: &mut PlotView,
+    out: &mut Vec<Command>,
+) {
     let chosen = debugger.channel_choices().to_vec();
     for (i, c) in chosen.iter().enumerate() {
         ui.horizontal(|ui| {

@@ -127,30 +127,33 @@ fn flags(ui: &mut egui::Ui, debugger: &Debugger, out: &mut Vec<Command>) {
             continue;
         }
         let locs = (0..space.len).map(|i| Loc::new(s as u8, i));
-        let mut chip = |ui: &mut egui::Ui, loc: Loc, bit: u8, name: &str, tip: String, label: String| {
-            let on = m.read(loc) >> bit & 1 == 1;
-            let text = RichText::new(name).small().color(if on {
-                egui::Color32::WHITE
-            } else {
-                p.dim
-            });
-            let button = egui::Button::new(text)
-                .fill(if on {
-                    p.bit_on
+        let mut chip =
+            |ui: &mut egui::Ui, loc: Loc, bit: u8, name: &str, tip: String, label: String| {
+                let on = m.read(loc) >> bit & 1 == 1;
+                let text = RichText::new(name).small().color(if on {
+                    egui::Color32::WHITE
                 } else {
-                    p.bit_off.gamma_multiply(0.5)
-                })
-                .min_size(Vec2::ZERO);
-            let r = ui.add(button);
-            r.widget_info(|| egui::WidgetInfo::selected(egui::Role::CheckBox, true, on, &label));
-            let r = r.on_hover_text(format!(
-                "{tip} ({}) — click to flip",
-                if on { "set" } else { "clear" }
-            ));
-            if r.clicked() {
-                out.push(Command::SetBit(loc, bit, !on));
-            }
-        };
+                    p.dim
+                });
+                let button = egui::Button::new(text)
+                    .fill(if on {
+                        p.bit_on
+                    } else {
+                        p.bit_off.gamma_multiply(0.5)
+                    })
+                    .min_size(Vec2::ZERO);
+                let r = ui.add(button);
+                r.widget_info(|| {
+                    egui::WidgetInfo::selected(egui::Role::CheckBox, true, on, &label)
+                });
+                let r = r.on_hover_text(format!(
+                    "{tip} ({}) — click to flip",
+                    if on { "set" } else { "clear" }
+                ));
+                if r.clicked() {
+                    out.push(Command::SetBit(loc, bit, !on));
+                }
+            };
         let words: Vec<(Loc, LocInfo)> = locs
             .filter_map(|loc| m.info(loc).map(|i| (loc, i)))
             .collect();
@@ -395,7 +398,10 @@ fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView) {
                     ui.label(text);
                 });
                 row.col(|ui| {
-                    let own = names.iter().find(|(_, l)| *l == loc).map(|(n, _)| n.as_str());
+                    let own = names
+                        .iter()
+                        .find(|(_, l)| *l == loc)
+                        .map(|(n, _)| n.as_str());
                     let name = info.alias.or(own).unwrap_or("");
                     ui.label(RichText::new(name).small().color(p.dim));
                 });
@@ -431,10 +437,7 @@ fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView) {
                     ui.label(format!("Show {} as", info.name));
                     for f in Format::ALL {
                         if ui
-                            .selectable_label(
-                                view.overrides.get(&loc) == Some(&f),
-                                f.name(),
-                            )
+                            .selectable_label(view.overrides.get(&loc) == Some(&f), f.name())
                             .clicked()
                         {
                             format_change = Some((loc, Some(f)));

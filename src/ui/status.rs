@@ -42,11 +42,14 @@ pub fn status_bar(ui: &mut egui::Ui, debugger: &Debugger) {
             ui.monospace(format!("{} {}", words.tick, pos.tick));
         } else {
             // Inside a scan: how far into it.
-            ui.monospace(format!("{} {}, {} {}", words.tick, pos.tick, words.step, pos.step))
-                .on_hover_text(format!(
-                    "{} {} of {} {} have run",
-                    pos.step, words.steps, words.tick, pos.tick
-                ));
+            ui.monospace(format!(
+                "{} {}, {} {}",
+                words.tick, pos.tick, words.step, pos.step
+            ))
+            .on_hover_text(format!(
+                "{} {} of {} {} have run",
+                pos.step, words.steps, words.tick, pos.tick
+            ));
         }
         ui.separator();
         ui.monospace(format!("{ms:.3} ms"));

@@ -363,16 +363,13 @@ impl Assembler {
             return None;
         }
         // Parse every operand even after one fails, so all errors of the line are reported.
-        macro_rules! each {
-            ($($e:expr),*) => {{ ($($e),*) }};
-        }
         let instr = match upper {
             "CLC" => {
-                let (op, reg) = each!(self.clc_op(line, ops[0]), self.register(line, ops[1]));
+                let (op, reg) = (self.clc_op(line, ops[0]), self.register(line, ops[1]));
                 Instr::Clc { op: op?, reg: reg? }
             }
             "CLD" | "CLX" => {
-                let (op, res, reg1) = each!(
+                let (op, res, reg1) = (
                     self.ext_op(line, ops[0], upper),
                     self.register(line, ops[1]),
                     self.register(line, ops[2])
@@ -401,7 +398,7 @@ impl Assembler {
             }
             "WRP" => {
                 let (reg, value) =
-                    each!(self.register(line, ops[0]), self.data(line, ops[1], false));
+                    (self.register(line, ops[0]), self.data(line, ops[1], false));
                 Instr::Wrp {
                     reg: reg?,
                     value: value?,
@@ -459,7 +456,7 @@ impl Assembler {
                 } else {
                     self.data(line, ops[0], false)
                 };
-                let (accel, vel) = each!(
+                let (accel, vel) = (
                     self.data(line, ops[1], false),
                     self.data(line, ops[2], false)
                 );

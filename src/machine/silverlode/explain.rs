@@ -8,15 +8,7 @@ fn hex(v: i32) -> String {
     format!("0x{:08X}", v as u32)
 }
 
-fn hi(v: i32) -> i32 {
-    (v as u32 >> 16) as i32
-}
-fn lo(v: i32) -> i32 {
-    v & 0xFFFF
-}
-fn sx16(w: i32) -> i32 {
-    i32::from(w as u16 as i16)
-}
+use super::{RawQueue, hi, lo, sx16};
 
 pub fn explain(m: &SilverLode) -> Option<String> {
     let last = m.s.last;
@@ -385,8 +377,9 @@ fn ext(op: ExtOp, res: u8, reg1: u8, d_name: &str, outcome: Outcome, vals: [i32;
 
 fn queue(op: ExtOp, res: u8, base: u8, d_name: &str, outcome: Outcome, vals: [i32; 4]) -> String {
     let [h0, h1, d, value] = vals;
-    let (size, len) = ((h0 as u32 >> 16) as usize, (h0 as u32 & 0xFFFF) as usize);
-    let (head, tail) = ((h1 as u32 >> 16) as usize, (h1 as u32 & 0xFFFF) as usize);
+    let header = RawQueue::from_words(h0, h1);
+    let (size, len) = (header.size as usize, header.len as usize);
+    let (head, tail) = (header.head as usize, header.tail as usize);
     let q = format!("queue R{base}");
     let slot = |i: usize| format!("slot {i} (R{})", base as usize + 2 + i);
     let data = if d_name.starts_with('R') {

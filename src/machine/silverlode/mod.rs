@@ -271,15 +271,15 @@ struct Raise(FaultKind, String);
 type Exec = Result<(), Raise>;
 
 #[inline(always)]
-fn hi(v: i32) -> i32 {
+pub(super) fn hi(v: i32) -> i32 {
     (v as u32 >> 16) as i32
 }
 #[inline(always)]
-fn lo(v: i32) -> i32 {
+pub(super) fn lo(v: i32) -> i32 {
     v & 0xFFFF
 }
 #[inline(always)]
-fn sx16(word: i32) -> i32 {
+pub(super) fn sx16(word: i32) -> i32 {
     i32::from(word as u16 as i16)
 }
 #[inline(always)]
@@ -319,17 +319,23 @@ pub struct RawQueue {
 }
 
 impl RawQueue {
-    pub fn decode(regs: &[i32; REGISTERS], base: usize) -> Option<RawQueue> {
-        if base + 1 >= REGISTERS {
-            return None;
-        }
-        let (h0, h1) = (regs[base] as u32, regs[base + 1] as u32);
-        let q = RawQueue {
+    /// The header fields of two header words, valid or not.
+    pub fn from_words(h0: i32, h1: i32) -> RawQueue {
+        let (h0, h1) = (h0 as u32, h1 as u32);
+        RawQueue {
             size: h0 >> 16,
             len: h0 & 0xFFFF,
             head: h1 >> 16,
             tail: h1 & 0xFFFF,
-        };
+        }
+    }
+
+    /// The queue whose header is at `base`, if it is a valid one.
+    pub fn decode(regs: &[i32; REGISTERS], base: usize) -> Option<RawQueue> {
+        if base + 1 >= REGISTERS {
+            return None;
+        }
+        let q = RawQueue::from_words(regs[base], regs[base + 1]);
         let valid = q.size >= 1
             && q.len <= q.size
             && q.head < q.size
@@ -832,11 +838,6 @@ impl SilverLode {
                 self.s.regs[reg as usize] = value;
                 self.complete(next);
             }
-            Instr::Jmp { target, cond } => {
-                let taken = cond.is_none_or(|c| c.holds(self.s.isw));
-                self.record([i32::from(taken), 0, 0, 0], Outcome::Done);
-                self.complete(if taken { target } else { next });
-            }
             Instr::Call { target } => {
                 if self.s.sp as usize >= STACK_DEPTH {
                     return Err(Raise(
@@ -913,7 +914,8 @@ impl SilverLode {
                 self.s.motion.settled = false;
                 self.complete(next);
             }
-            Instr::Clc { .. } | Instr::Cld { .. } | Instr::Clx { .. } => {}
+            // Calculations and jumps run in `execute`, the hot path.
+            Instr::Clc { .. } | Instr::Cld { .. } | Instr::Clx { .. } | Instr::Jmp { .. } => {}
         }
         Ok(())
     }
@@ -1095,8 +1097,9 @@ impl SilverLode {
             _ => return None,
         };
         let [h0, h1, d, _] = last.vals;
-        let size = (h0 as u32 >> 16).max(1) as i64;
-        let (head, tail) = (i64::from(h1 as u32 >> 16), i64::from(h1 as u32 & 0xFFFF));
+        let q = RawQueue::from_words(h0, h1);
+        let size = i64::from(q.size.max(1));
+        let (head, tail) = (i64::from(q.head), i64::from(q.tail));
         let (action, slot) = match op {
             ExtOp::QInit => ("init".to_string(), None),
             ExtOp::QPushHead | ExtOp::QPushHeadErr => ("push head".to_string(), Some(head)),
@@ -1164,7 +1167,7 @@ impl SilverLode {
                     ExtOp::QInit => out.extend([base, base + 1, res]),
                     ExtOp::QRead => out.push(res),
                     ExtOp::QPushHead | ExtOp::QPushHeadErr => {
-                        let head = (last.vals[1] as u32 >> 16) as usize;
+                        let head = RawQueue::from_words(last.vals[0], last.vals[1]).head as usize;
                         out.extend([base + 2 + head, base, base + 1, res]);
                     }
                     ExtOp::QPushTail | ExtOp::QPushTailErr => {

@@ -18,6 +18,8 @@ use serde::{Deserialize, Serialize};
 use super::program::Cond;
 
 pub const FRAC: u32 = 26;
+/// One tick in seconds (spec §3: 120 µs).
+const TICK_SECONDS: f64 = super::TICK_MICROS as f64 * 1e-6;
 pub const ONE: i64 = 1 << FRAC;
 const SETTLE: i64 = ONE >> 10;
 
@@ -75,7 +77,7 @@ impl ServoSettings {
     /// (k1, k2) in Q32. Only IEEE basic operations, so the result is the same everywhere.
     pub fn coefficients(self) -> (i64, i64) {
         let s = self.clamped();
-        let w_dt = 2.0 * std::f64::consts::PI * s.natural_frequency_hz * 120e-6;
+        let w_dt = 2.0 * std::f64::consts::PI * s.natural_frequency_hz * TICK_SECONDS;
         let q32 = 4_294_967_296.0;
         (
             (w_dt * w_dt * q32).round() as i64,
@@ -188,51 +190,14 @@ pub fn round_q26(v: i64) -> i64 {
 /// Largest speed `s` whose discrete braking distance `s + (s−a) + (s−2a) + … ≈ s(s+a)/2a` does
 /// not exceed `remaining`: `s = (√(a² + 8a·r) − a) / 2`.
 fn braking_speed(accel: u128, remaining: u128) -> i64 {
-    let root = isqrt(accel * accel + 8 * accel * remaining);
+    let root = (accel * accel + 8 * accel * remaining).isqrt();
     let s = (root - accel) / 2;
     s.min(i64::MAX as u128) as i64
-}
-
-/// Integer square root (floor), exact for every u128.
-pub fn isqrt(n: u128) -> u128 {
-    if n < 2 {
-        return n;
-    }
-    // The f64 estimate is within a few units; correct it exactly with integer arithmetic.
-    let mut r = (n as f64).sqrt() as u128;
-    while r.checked_mul(r).is_none_or(|sq| sq > n) {
-        r -= 1;
-    }
-    while (r + 1).checked_mul(r + 1).is_some_and(|sq| sq <= n) {
-        r += 1;
-    }
-    r
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn isqrt_is_exact() {
-        for n in [
-            0u128,
-            1,
-            2,
-            3,
-            4,
-            15,
-            16,
-            17,
-            1 << 60,
-            (1 << 92) + 12345,
-            u128::MAX,
-        ] {
-            let r = isqrt(n);
-            assert!(r * r <= n, "{n}");
-            assert!((r + 1).checked_mul(r + 1).is_none_or(|sq| sq > n), "{n}");
-        }
-    }
 
     #[test]
     fn default_coefficients_match_25_hz() {
