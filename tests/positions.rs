@@ -340,7 +340,7 @@ fn edits_inside_a_scan_replay_exactly() {
     let reference = straight(&mut d, &edits, 8);
     assert_eq!(reference.len(), 8 * 5 + 1);
     // The edit at (1, 2) came after COPY of scan 1: V1 keeps 2, V0 jumps to 100.
-    let after = &reference[1 * 5 + 2];
+    let after = &reference[5 + 2]; // scan 1, after its second instruction
     assert_eq!((after.v[0], after.v[1]), (100, 2));
     // X0 switched on at (2, 1) is read by IN at step 2 of that same scan.
     assert_eq!(reference[2 * 5 + 3].v[2], 1);

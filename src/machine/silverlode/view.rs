@@ -5,8 +5,8 @@ use std::any::Any;
 use std::fmt::Write as _;
 
 use super::motion::FRAC;
-use super::program::ALIASES;
-use super::{ISW_BITS, PSW_BITS, RawQueue, REGISTERS, SilverLode, TICK_MICROS};
+use super::program::{ALIASES, ClcOp, ExtOp, Instr};
+use super::{FaultKind, ISW_BITS, Outcome, PSW_BITS, REGISTERS, RawQueue, SilverLode, TICK_MICROS};
 use crate::machine::{
     FaultInfo, Loc, LocInfo, Machine, MachineView, Pos, RunState, SpaceInfo, SpaceKind,
     StopReason, WriteError,
@@ -116,6 +116,115 @@ impl SilverLode {
                 QueueView { base, header, raw }
             })
             .collect()
+    }
+}
+
+impl SilverLode {
+    /// The queue the last command used, derived from the command and its record.
+    pub fn last_queue_access(&self) -> Option<QueueAccess> {
+        let last = self.s.last;
+        let (op, base) = match *self.program.instrs.get(last.pc as usize)? {
+            Instr::Cld { op, reg1, .. } | Instr::Clx { op, reg1, .. } if op.is_queue() => {
+                (op, reg1 as usize)
+            }
+            _ => return None,
+        };
+        let [h0, h1, d, _] = last.vals;
+        let q = RawQueue::from_words(h0, h1);
+        let size = i64::from(q.size.max(1));
+        let (head, tail) = (i64::from(q.head), i64::from(q.tail));
+        let (action, slot) = match op {
+            ExtOp::QInit => ("init".to_string(), None),
+            ExtOp::QPushHead | ExtOp::QPushHeadErr => ("push head".to_string(), Some(head)),
+            ExtOp::QPopHead | ExtOp::QPopHeadErr => ("pop head".to_string(), Some(head - 1)),
+            ExtOp::QPushTail | ExtOp::QPushTailErr => ("push tail".to_string(), Some(tail - 1)),
+            ExtOp::QPopTail | ExtOp::QPopTailErr => ("pop tail".to_string(), Some(tail)),
+            _ => {
+                let n = i64::from(d);
+                let slot = if n >= 0 { head - 1 - n } else { tail - 1 - n };
+                (format!("read {n}"), Some(slot))
+            }
+        };
+        let ok = last.outcome == Outcome::Done;
+        let failure = (!ok).then(|| match (op, self.s.fault.as_ref().map(|f| f.kind)) {
+            (_, Some(FaultKind::BadQueue)) if last.outcome == Outcome::Faulted => {
+                "not a valid queue"
+            }
+            (
+                ExtOp::QPushHead | ExtOp::QPushTail | ExtOp::QPushHeadErr | ExtOp::QPushTailErr,
+                _,
+            ) => "full",
+            (ExtOp::QRead, _) => "no such element",
+            _ => "empty",
+        });
+        Some(QueueAccess {
+            base,
+            action,
+            slot: slot.filter(|_| ok).map(|s| s.rem_euclid(size) as usize),
+            ok,
+            failure,
+        })
+    }
+
+    /// Registers the last command wrote, derived from the command and its record.
+    pub fn written_by_last(&self) -> Vec<usize> {
+        let last = self.s.last;
+        let mut out = Vec::new();
+        if last.outcome != Outcome::Done {
+            return out;
+        }
+        let Some(&instr) = self.program.instrs.get(last.pc as usize) else {
+            return out;
+        };
+        match instr {
+            Instr::Clc { op, reg } => match op {
+                ClcOp::Clear
+                | ClcOp::Save
+                | ClcOp::Abs
+                | ClcOp::Neg
+                | ClcOp::Inc
+                | ClcOp::Dec
+                | ClcOp::Shl
+                | ClcOp::ShrS
+                | ClcOp::ShrU
+                | ClcOp::CopyWordHiReg
+                | ClcOp::CopyWordLoReg => out.push(reg as usize),
+                ClcOp::SaveRef => out.push(last.vals[1] as usize),
+                ClcOp::SubTarget => out.extend([0, 1, 6]),
+                _ => out.push(10),
+            },
+            Instr::Cld { op, res, reg1, .. } | Instr::Clx { op, res, reg1, .. } => {
+                let (res, base) = (res as usize, reg1 as usize);
+                match op {
+                    ExtOp::MultU64 => out.extend([res, res + 1]),
+                    ExtOp::QInit => out.extend([base, base + 1, res]),
+                    ExtOp::QRead => out.push(res),
+                    ExtOp::QPushHead | ExtOp::QPushHeadErr => {
+                        let head = RawQueue::from_words(last.vals[0], last.vals[1]).head as usize;
+                        out.extend([base + 2 + head, base, base + 1, res]);
+                    }
+                    ExtOp::QPushTail | ExtOp::QPushTailErr => {
+                        let q = RawQueue::decode(&self.s.regs, base);
+                        if let Some(q) = q {
+                            out.push(base + 2 + q.tail as usize);
+                        }
+                        out.extend([base, base + 1, res]);
+                    }
+                    _ if op.is_queue() => out.extend([base, base + 1, res]),
+                    _ => out.push(res),
+                }
+            }
+            Instr::Wrp { reg, .. } => out.push(reg as usize),
+            Instr::Ztp => out.extend([0, 1, 6]),
+            Instr::Ttp => out.push(0),
+            _ => {}
+        }
+        if self.s.motion_ticked {
+            out.extend([0, 1, 6, 7]);
+        }
+        out.sort_unstable();
+        out.dedup();
+        out
     }
 }
 

@@ -1,0 +1,703 @@
+//! The executor: one tick of the machine, every command, queues, moves and the motion model
+//! (spec §3–§6). Faults are raised before a command changes anything.
+
+use super::motion::FRAC;
+use super::program::{ClcOp, Cond, ExtOp, Instr, MoveKind};
+use super::{
+    Fault, FaultKind, LastExec, Outcome, REGISTERS, RawQueue, STACK_DEPTH, SilverLode, hi, isw,
+    lo, psw,
+    sx16,
+};
+use crate::machine::{RunState, StopReason, WaitReason};
+
+/// A fault raised by a command before it changed anything.
+struct Raise(FaultKind, String);
+
+type Exec = Result<(), Raise>;
+
+#[inline(always)]
+fn flag_bits(v: i32) -> u16 {
+    if v == 0 {
+        isw::ZERO
+    } else if v > 0 {
+        isw::POSITIVE
+    } else {
+        isw::NEGATIVE
+    }
+}
+
+fn check_divisor(dividend: i32, divisor: i32, what: &str) -> Result<(), Raise> {
+    if divisor == 0 {
+        return Err(Raise(
+            FaultKind::DivideByZero,
+            format!("divide by zero: the divisor {what} is 0"),
+        ));
+    }
+    if dividend == i32::MIN && divisor == -1 {
+        return Err(Raise(
+            FaultKind::DivideOverflow,
+            "-2147483648 / -1 does not fit in 32 bits".to_string(),
+        ));
+    }
+    Ok(())
+}
+
+impl SilverLode {
+
+    pub(super) fn end_if_past_last_line(&mut self) {
+        if self.s.pc as usize >= self.program.instrs.len() && self.s.run == RunState::Running {
+            self.s.run = RunState::Ended;
+            self.s.psw |= psw::PROGRAM_DONE;
+        }
+    }
+
+    /// The current command finished: count it and move on.
+    #[inline(always)]
+    fn complete(&mut self, next_pc: u32) {
+        self.s.steps += 1;
+        self.s.pc = next_pc;
+        self.s.run = RunState::Running;
+        if next_pc as usize >= self.program.instrs.len() {
+            self.s.run = RunState::Ended;
+            self.s.psw |= psw::PROGRAM_DONE;
+        }
+    }
+
+    #[inline(always)]
+    fn set_flags(&mut self, v: i32) {
+        self.s.isw = (self.s.isw & !isw::FLAGS) | flag_bits(v);
+    }
+
+    #[inline(always)]
+    fn record(&mut self, vals: [i32; 4], outcome: Outcome) {
+        self.s.last = LastExec {
+            pc: self.s.pc,
+            vals,
+            outcome,
+        };
+    }
+
+    /// One tick. Returns false when the machine was not live (nothing happened).
+    #[inline]
+    pub fn tick(&mut self) -> bool {
+        match self.s.run {
+            RunState::Running => {
+                if !self.execute() {
+                    return true;
+                }
+            }
+            RunState::Waiting(WaitReason::Delay) => {
+                self.s.delay_left -= 1;
+                if self.s.delay_left == 0 {
+                    self.s.isw |= isw::DELAY_DONE;
+                    self.complete(self.s.pc + 1);
+                }
+            }
+            RunState::Waiting(WaitReason::Condition) => {
+                if self.s.wait_cond.is_none_or(|c| c.holds(self.s.isw)) {
+                    self.complete(self.s.pc + 1);
+                }
+            }
+            RunState::Waiting(WaitReason::Move) => {}
+            RunState::Ended | RunState::Faulted => return false,
+        }
+        self.motion_tick();
+        if self.s.run == RunState::Waiting(WaitReason::Move) && !self.s.motion.active {
+            self.complete(self.s.pc + 1);
+        }
+        self.s.ticks += 1;
+        true
+    }
+
+    /// Execute the command at pc. Returns false when it faulted without a handler (the tick
+    /// is then not spent).
+    #[inline(always)]
+    fn execute(&mut self) -> bool {
+        let pc = self.s.pc;
+        let Some(&instr) = self.program.instrs.get(pc as usize) else {
+            self.end_if_past_last_line();
+            return false;
+        };
+        let result = match instr {
+            Instr::Clc { op, reg } => self.clc(op, reg as usize),
+            Instr::Cld {
+                op,
+                res,
+                reg1,
+                data,
+            } => self.ext(op, res as usize, reg1 as usize, data),
+            Instr::Clx {
+                op,
+                res,
+                reg1,
+                reg2,
+            } => {
+                let d = self.s.regs[reg2 as usize];
+                self.ext(op, res as usize, reg1 as usize, d)
+            }
+            // Jumps close every loop: keep them out of the rarely used `flow`.
+            Instr::Jmp { target, cond } => {
+                let taken = cond.is_none_or(|c| c.holds(self.s.isw));
+                self.record([i32::from(taken), 0, 0, 0], Outcome::Done);
+                self.complete(if taken { target } else { pc + 1 });
+                Ok(())
+            }
+            _ => self.flow(instr),
+        };
+        match result {
+            Ok(()) => true,
+            Err(Raise(kind, message)) => self.raise(kind, message),
+        }
+    }
+
+    fn raise(&mut self, kind: FaultKind, message: String) -> bool {
+        self.s.psw |= psw::COMMAND_ERROR;
+        self.record([0; 4], Outcome::Faulted);
+        let line = self
+            .program
+            .lines
+            .get(self.s.pc as usize)
+            .copied()
+            .unwrap_or(0);
+        if let Some(handler) = self.s.cer {
+            // The handled error spends the tick; the faulting command is not counted as a step.
+            self.s.fault = Some(Fault {
+                kind,
+                pc: self.s.pc,
+                message: format!("{message} (line {line}, handled by CER)"),
+            });
+            self.s.pc = handler;
+            self.end_if_past_last_line();
+            true
+        } else {
+            self.s.fault = Some(Fault {
+                kind,
+                pc: self.s.pc,
+                message,
+            });
+            self.s.run = RunState::Faulted;
+            false
+        }
+    }
+
+    #[inline(always)]
+    fn clc(&mut self, op: ClcOp, reg: usize) -> Exec {
+        let acc = self.s.regs[10];
+        let x = self.s.regs[reg];
+        // (register written, value)
+        let (dst, v, extra) = match op {
+            ClcOp::Clear => (reg, 0, 0),
+            ClcOp::Copy => (10, x, 0),
+            ClcOp::Save => (reg, acc, 0),
+            ClcOp::CopyRef | ClcOp::SaveRef => {
+                if !(0..REGISTERS as i32).contains(&x) {
+                    return Err(Raise(
+                        FaultKind::BadRegister,
+                        format!("R{reg} = {x} does not name a register (0 ..= 199)"),
+                    ));
+                }
+                if op == ClcOp::CopyRef {
+                    (10, self.s.regs[x as usize], 0)
+                } else {
+                    (x as usize, acc, 0)
+                }
+            }
+            ClcOp::Abs => (reg, x.wrapping_abs(), 0),
+            ClcOp::Neg => (reg, x.wrapping_neg(), 0),
+            ClcOp::Inc => (reg, x.wrapping_add(1), 0),
+            ClcOp::Dec => (reg, x.wrapping_sub(1), 0),
+            ClcOp::Add => (10, acc.wrapping_add(x), 0),
+            ClcOp::AddHi => (10, acc.wrapping_add(sx16(hi(x))), 0),
+            ClcOp::AddLo => (10, acc.wrapping_add(sx16(lo(x))), 0),
+            ClcOp::Sub => (10, acc.wrapping_sub(x), 0),
+            ClcOp::SubRev => (10, x.wrapping_sub(acc), 0),
+            ClcOp::MultS | ClcOp::MultU => (10, acc.wrapping_mul(x), 0),
+            ClcOp::Div | ClcOp::Mod => {
+                let divisor = sx16(lo(x));
+                check_divisor(acc, divisor, &format!("LO(R{reg}) of 0x{:08X}", x as u32))?;
+                if op == ClcOp::Div {
+                    (10, acc / divisor, 0)
+                } else {
+                    (10, acc % divisor, 0)
+                }
+            }
+            ClcOp::Max => (10, acc.max(x), 0),
+            ClcOp::Min => (10, acc.min(x), 0),
+            ClcOp::And => (10, acc & x, 0),
+            ClcOp::Or => (10, acc | x, 0),
+            ClcOp::Xor => (10, acc ^ x, 0),
+            ClcOp::Shl => (reg, x.wrapping_shl(1), 0),
+            ClcOp::ShrS => (reg, x >> 1, 0),
+            ClcOp::ShrU => (reg, (x as u32 >> 1) as i32, 0),
+            ClcOp::CopyWordHiAcc => (10, lo(x) << 16 | lo(acc), 0),
+            ClcOp::CopyWordHiReg => (reg, lo(acc) << 16 | lo(x), 0),
+            ClcOp::CopyWordLoReg => (reg, (x as u32 & 0xFFFF_0000) as i32 | lo(acc), 0),
+            ClcOp::SextHi => (10, sx16(hi(x)), 0),
+            ClcOp::SextLo => (10, sx16(lo(x)), 0),
+            ClcOp::SubTarget => {
+                let (r0, r1) = (self.s.regs[0], self.s.regs[1]);
+                self.record([r0, x, r0.wrapping_sub(x), r1], Outcome::Done);
+                self.shift_positions(i64::from(x), i64::from(x));
+                self.set_flags(self.s.regs[0]);
+                self.complete(self.s.pc + 1);
+                return Ok(());
+            }
+        };
+        self.record([acc, x, v, extra], Outcome::Done);
+        self.s.regs[dst] = v;
+        self.set_flags(v);
+        self.complete(self.s.pc + 1);
+        Ok(())
+    }
+
+    #[inline(always)]
+    fn ext(&mut self, op: ExtOp, res: usize, reg1: usize, d: i32) -> Exec {
+        let a = self.s.regs[reg1];
+        let v = match op {
+            ExtOp::Copy => a,
+            ExtOp::Abs => a.wrapping_abs(),
+            ExtOp::Neg => a.wrapping_neg(),
+            ExtOp::Add => a.wrapping_add(d),
+            ExtOp::Sub => a.wrapping_sub(d),
+            ExtOp::SubRev => d.wrapping_sub(a),
+            ExtOp::AddHi => sx16(hi(a)).wrapping_add(d),
+            ExtOp::AddLo => sx16(lo(a)).wrapping_add(d),
+            ExtOp::And => a & d,
+            ExtOp::Or => a | d,
+            ExtOp::Xor => a ^ d,
+            ExtOp::Max => a.max(d),
+            ExtOp::Min => a.min(d),
+            ExtOp::SextHi => sx16(hi(a)),
+            ExtOp::SextLo => sx16(lo(a)),
+            ExtOp::PackLoLo => lo(a) << 16 | lo(d),
+            ExtOp::PackHiLo => hi(a) << 16 | lo(d),
+            ExtOp::PackHiHi => hi(a) << 16 | hi(d),
+            ExtOp::MultS | ExtOp::MultU => a.wrapping_mul(d),
+            ExtOp::MultS64Shr16 => ((i64::from(a) * i64::from(d)) >> 16) as i32,
+            ExtOp::Div | ExtOp::Mod => {
+                let divisor = sx16(lo(d));
+                check_divisor(a, divisor, &format!("LO(data) of 0x{:08X}", d as u32))?;
+                if op == ExtOp::Div {
+                    a / divisor
+                } else {
+                    a % divisor
+                }
+            }
+            ExtOp::DivRev | ExtOp::ModRev => {
+                let divisor = sx16(lo(a));
+                check_divisor(d, divisor, &format!("LO(R{reg1}) of 0x{:08X}", a as u32))?;
+                if op == ExtOp::DivRev {
+                    d / divisor
+                } else {
+                    d % divisor
+                }
+            }
+            ExtOp::MultU64 => {
+                if res >= REGISTERS - 1 {
+                    return Err(Raise(
+                        FaultKind::BadRegister,
+                        "MULT_U64 needs two result registers; R199 has no R200 after it"
+                            .to_string(),
+                    ));
+                }
+                let p = u64::from(a as u32) * u64::from(d as u32);
+                self.record([a, d, (p >> 32) as i32, p as i32], Outcome::Done);
+                self.s.regs[res + 1] = p as i32;
+                self.s.regs[res] = (p >> 32) as i32;
+                self.s.isw =
+                    (self.s.isw & !isw::FLAGS) | if p == 0 { isw::ZERO } else { isw::POSITIVE };
+                self.complete(self.s.pc + 1);
+                return Ok(());
+            }
+            ExtOp::DivU64 => {
+                if reg1 >= REGISTERS - 1 {
+                    return Err(Raise(
+                        FaultKind::BadRegister,
+                        "DIV_U64 reads a register pair; R199 has no R200 after it".to_string(),
+                    ));
+                }
+                let low = self.s.regs[reg1 + 1];
+                let n = u64::from(a as u32) << 32 | u64::from(low as u32);
+                let divisor = u64::from(d as u32);
+                if divisor == 0 {
+                    return Err(Raise(
+                        FaultKind::DivideByZero,
+                        "divide by zero: the 32-bit divisor is 0".to_string(),
+                    ));
+                }
+                let q = n / divisor;
+                if q > u64::from(u32::MAX) {
+                    return Err(Raise(
+                        FaultKind::DivideOverflow,
+                        format!("{n} / {divisor} = {q} does not fit in 32 bits"),
+                    ));
+                }
+                self.record([a, low, d, q as i32], Outcome::Done);
+                self.s.regs[res] = q as i32;
+                self.s.isw =
+                    (self.s.isw & !isw::FLAGS) | if q == 0 { isw::ZERO } else { isw::POSITIVE };
+                self.complete(self.s.pc + 1);
+                return Ok(());
+            }
+            _ => return self.queue(op, res, reg1, d),
+        };
+        self.record([a, d, v, 0], Outcome::Done);
+        self.s.regs[res] = v;
+        self.set_flags(v);
+        self.complete(self.s.pc + 1);
+        Ok(())
+    }
+
+    fn queue(&mut self, op: ExtOp, res: usize, base: usize, d: i32) -> Exec {
+        let regs = &self.s.regs;
+        let before = [regs[base], regs.get(base + 1).copied().unwrap_or(0)];
+        if op == ExtOp::QInit {
+            if d < 1 || base + 1 + d as usize > REGISTERS - 1 {
+                return Err(Raise(
+                    FaultKind::BadQueue,
+                    format!(
+                        "a queue of {d} slots at R{base} does not fit: it needs size ≥ 1 and R{base} ..= R{} ≤ R199",
+                        i64::from(d) + base as i64 + 1
+                    ),
+                ));
+            }
+            self.record([before[0], before[1], d, d], Outcome::Done);
+            self.s.regs[base] = d << 16;
+            self.s.regs[base + 1] = 0;
+            self.s.regs[res] = d;
+            if !self.s.queue_bases.contains(&(base as u8)) {
+                self.s.queue_bases.push(base as u8);
+            }
+            return self.queue_done(true);
+        }
+        let Some(mut q) = RawQueue::decode(regs, base) else {
+            return Err(Raise(
+                FaultKind::BadQueue,
+                format!(
+                    "R{base} does not hold a valid queue header (size|len = 0x{:08X}, head|tail = 0x{:08X})",
+                    before[0] as u32, before[1] as u32
+                ),
+            ));
+        };
+        let slot0 = base + 2;
+        let full = q.len == q.size;
+        let empty = q.len == 0;
+        let fail = |kind: FaultKind, what: &str| {
+            Err(Raise(
+                kind,
+                format!(
+                    "queue at R{base} is {what} ({} of {} slots used)",
+                    q.len, q.size
+                ),
+            ))
+        };
+        let result = match op {
+            ExtOp::QPushHeadErr if full => return fail(FaultKind::QueueFull, "full"),
+            ExtOp::QPushTailErr if full => return fail(FaultKind::QueueFull, "full"),
+            ExtOp::QPopHeadErr | ExtOp::QPopTailErr if empty => {
+                return fail(FaultKind::QueueEmpty, "empty");
+            }
+            ExtOp::QPushHead | ExtOp::QPushTail if full => None,
+            ExtOp::QPopHead | ExtOp::QPopTail if empty => None,
+            ExtOp::QPushHead | ExtOp::QPushHeadErr => {
+                self.s.regs[slot0 + q.head as usize] = d;
+                q.head = (q.head + 1) % q.size;
+                q.len += 1;
+                Some((q.size - q.len) as i32)
+            }
+            ExtOp::QPushTail | ExtOp::QPushTailErr => {
+                q.tail = (q.tail + q.size - 1) % q.size;
+                self.s.regs[slot0 + q.tail as usize] = d;
+                q.len += 1;
+                Some((q.size - q.len) as i32)
+            }
+            ExtOp::QPopHead | ExtOp::QPopHeadErr => {
+                q.head = (q.head + q.size - 1) % q.size;
+                q.len -= 1;
+                Some(self.s.regs[slot0 + q.head as usize])
+            }
+            ExtOp::QPopTail | ExtOp::QPopTailErr => {
+                let v = self.s.regs[slot0 + q.tail as usize];
+                q.tail = (q.tail + 1) % q.size;
+                q.len -= 1;
+                Some(v)
+            }
+            _ => {
+                // Q_READ: 0 ..< len from the head (0 = newest), -1 ..= -len from the tail.
+                let n = i64::from(d);
+                let (size, len) = (i64::from(q.size), i64::from(q.len));
+                let slot = if n >= 0 && n < len {
+                    Some((i64::from(q.head) - 1 - n).rem_euclid(size))
+                } else if n < 0 && -n <= len {
+                    Some((i64::from(q.tail) - 1 - n).rem_euclid(size))
+                } else {
+                    None
+                };
+                slot.map(|s| self.s.regs[slot0 + s as usize])
+            }
+        };
+        match result {
+            Some(value) => {
+                self.record([before[0], before[1], d, value], Outcome::Done);
+                if op != ExtOp::QRead {
+                    let (h0, h1) = q.encode();
+                    self.s.regs[base] = h0;
+                    self.s.regs[base + 1] = h1;
+                }
+                self.s.regs[res] = value;
+                self.queue_done(true)
+            }
+            None => {
+                self.record([before[0], before[1], d, 0], Outcome::Failed);
+                self.queue_done(false)
+            }
+        }
+    }
+
+    fn queue_done(&mut self, ok: bool) -> Exec {
+        let flag = if ok { isw::ZERO } else { isw::NEGATIVE };
+        self.s.isw = (self.s.isw & !isw::FLAGS) | flag;
+        self.complete(self.s.pc + 1);
+        Ok(())
+    }
+
+    #[inline(never)]
+    fn flow(&mut self, instr: Instr) -> Exec {
+        let next = self.s.pc + 1;
+        match instr {
+            Instr::Wrp { reg, value } => {
+                self.record([self.s.regs[reg as usize], value, value, 0], Outcome::Done);
+                self.s.regs[reg as usize] = value;
+                self.complete(next);
+            }
+            Instr::Call { target } => {
+                if self.s.sp as usize >= STACK_DEPTH {
+                    return Err(Raise(
+                        FaultKind::StackOverflow,
+                        format!("CALL nested deeper than {STACK_DEPTH} levels"),
+                    ));
+                }
+                self.record([self.s.sp as i32, 0, 0, 0], Outcome::Done);
+                self.s.stack[self.s.sp as usize] = next;
+                self.s.sp += 1;
+                self.complete(target);
+            }
+            Instr::Ret => {
+                if self.s.sp == 0 {
+                    return Err(Raise(
+                        FaultKind::StackUnderflow,
+                        "RET with no CALL to return to".to_string(),
+                    ));
+                }
+                self.record([self.s.sp as i32, 0, 0, 0], Outcome::Done);
+                self.s.sp -= 1;
+                let back = self.s.stack[self.s.sp as usize];
+                self.complete(back);
+            }
+            Instr::Dly { ticks } => {
+                self.record([ticks as i32, 0, 0, 0], Outcome::Done);
+                self.s.isw &= !isw::DELAY_DONE;
+                if ticks <= 1 {
+                    self.s.isw |= isw::DELAY_DONE;
+                    self.complete(next);
+                } else {
+                    self.s.delay_left = ticks - 1;
+                    self.s.run = RunState::Waiting(WaitReason::Delay);
+                }
+            }
+            Instr::Wbs { cond } => {
+                let holds = cond.holds(self.s.isw);
+                self.record([i32::from(holds), 0, 0, 0], Outcome::Done);
+                if holds {
+                    self.complete(next);
+                } else {
+                    self.s.wait_cond = Some(cond);
+                    self.s.run = RunState::Waiting(WaitReason::Condition);
+                }
+            }
+            Instr::Cer { target } => {
+                self.record([0; 4], Outcome::Done);
+                self.s.cer = target;
+                self.complete(next);
+            }
+            Instr::End => {
+                self.record([0; 4], Outcome::Done);
+                self.s.steps += 1;
+                self.s.run = RunState::Ended;
+                self.s.psw |= psw::PROGRAM_DONE;
+            }
+            Instr::Move {
+                kind,
+                pos,
+                accel,
+                vel,
+                cond,
+            } => self.start_move(kind, pos, accel, vel, cond)?,
+            Instr::Ztp => {
+                let (r0, r1) = (self.s.regs[0], self.s.regs[1]);
+                self.record([r0, r1, 0, 0], Outcome::Done);
+                self.shift_positions(i64::from(r0), i64::from(r1));
+                self.complete(next);
+            }
+            Instr::Ttp => {
+                let (r0, r1) = (self.s.regs[0], self.s.regs[1]);
+                self.record([r0, r1, 0, 0], Outcome::Done);
+                self.s.regs[0] = r1;
+                self.s.motion.settled = false;
+                self.complete(next);
+            }
+            // Calculations and jumps run in `execute`, the hot path.
+            Instr::Clc { .. } | Instr::Cld { .. } | Instr::Clx { .. } | Instr::Jmp { .. } => {}
+        }
+        Ok(())
+    }
+
+    fn start_move(
+        &mut self,
+        kind: MoveKind,
+        pos: i32,
+        accel: i32,
+        vel: i32,
+        cond: Option<Cond>,
+    ) -> Exec {
+        let (accel, vel) = (accel as u32, vel as u32);
+        if !(1..=1 << 30).contains(&accel) {
+            return Err(Raise(
+                FaultKind::BadMotion,
+                format!("acceleration {accel} is outside 1 ..= 1073741824 (native units)"),
+            ));
+        }
+        if vel > 1 << 31 {
+            return Err(Raise(
+                FaultKind::BadMotion,
+                format!("velocity {vel} is outside 0 ..= 2147483648 (native units)"),
+            ));
+        }
+        let start = self.s.regs[0];
+        let operand = if kind.takes_register() {
+            self.s.regs[pos as usize]
+        } else {
+            pos
+        };
+        let end = if kind.is_relative() {
+            let end = i64::from(start) + i64::from(operand);
+            i32::try_from(end).map_err(|_| {
+                Raise(
+                    FaultKind::BadMotion,
+                    format!("target {start} + {operand} = {end} does not fit in 32 bits"),
+                )
+            })?
+        } else {
+            operand
+        };
+        self.record([start, end, operand, 0], Outcome::Done);
+        self.s.isw &= !isw::INPUT_FOUND;
+        self.s.psw &= !psw::INPUT_FOUND;
+        let m = &mut self.s.motion;
+        if m.settled {
+            // Wake the follower exactly where the registers say the motor is.
+            m.x = i64::from(self.s.regs[1]) << FRAC;
+            m.v = 0;
+        }
+        m.start(start, end, accel, vel, cond);
+        m.settled = false;
+        self.s.run = RunState::Waiting(WaitReason::Move);
+        Ok(())
+    }
+
+    /// SUB_TARGET / ZTP: move the zero point; the motor does not move.
+    fn shift_positions(&mut self, target_by: i64, actual_by: i64) {
+        let regs = &mut self.s.regs;
+        regs[0] = regs[0].wrapping_sub(target_by as i32);
+        regs[1] = regs[1].wrapping_sub(actual_by as i32);
+        regs[6] = regs[0].wrapping_sub(regs[1]);
+        let m = &mut self.s.motion;
+        m.shift(target_by, actual_by);
+        m.seen_r0 = regs[0];
+        m.seen_r1 = regs[1];
+    }
+
+    /// The motion phase of a tick. Costs a few compares while the motor is at rest.
+    #[inline(always)]
+    fn motion_tick(&mut self) {
+        let m = &self.s.motion;
+        // `settled` implies no trajectory; R0 and R1 unchanged since the model last wrote them.
+        let idle = m.settled && (m.seen_r0, m.seen_r1) == (self.s.regs[0], self.s.regs[1]);
+        if idle {
+            self.s.motion_ticked = false;
+        } else {
+            self.s.motion_ticked = true;
+            self.motion_step();
+        }
+    }
+
+    fn motion_step(&mut self) {
+        let regs = &mut self.s.regs;
+        let m = &mut self.s.motion;
+        if regs[1] != m.seen_r1 {
+            // A program or the user wrote the actual position: the motor is now there.
+            m.x = i64::from(regs[1]) << FRAC;
+            m.v = 0;
+        }
+        if m.active && !m.stopping && m.stop_cond.is_some_and(|c| c.holds(self.s.isw)) {
+            m.stopping = true;
+            regs[4] = regs[1];
+            self.s.isw |= isw::INPUT_FOUND;
+            self.s.psw |= psw::INPUT_FOUND;
+        }
+        let moving = m.active;
+        let reference = if m.active {
+            regs[0] = m.advance_trajectory();
+            m.pos
+        } else {
+            i64::from(regs[0]) << FRAC
+        };
+        m.settled = false;
+        regs[1] = m.advance_follower(reference, self.k1, self.k2);
+        regs[6] = regs[0].wrapping_sub(regs[1]);
+        regs[7] = m.v.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32;
+        m.seen_r0 = regs[0];
+        m.seen_r1 = regs[1];
+        let err = regs[6].unsigned_abs();
+        let mut bits = self.s.isw & !(isw::MOVING_ERROR | isw::HOLDING_ERROR);
+        if moving && err > self.settings.moving_error_limit {
+            bits |= isw::MOVING_ERROR;
+        }
+        if !moving && err > self.settings.holding_error_limit {
+            bits |= isw::HOLDING_ERROR;
+        }
+        self.s.isw = bits;
+    }
+
+    /// Run at full speed; see [`crate::machine::Machine::run_observed`].
+    #[inline]
+    pub fn run_fast<F: FnMut(&Self) -> bool, O: FnMut(&Self)>(
+        &mut self,
+        tick_limit: u64,
+        mut stop: F,
+        mut observe: O,
+    ) -> StopReason {
+        loop {
+            match self.s.run {
+                RunState::Ended | RunState::Faulted => return StopReason::Stopped,
+                RunState::Running => {
+                    if self.s.ticks >= tick_limit {
+                        return StopReason::TickLimit;
+                    }
+                    if stop(self) {
+                        return StopReason::Predicate;
+                    }
+                }
+                RunState::Waiting(_) => {
+                    if self.s.ticks >= tick_limit {
+                        return StopReason::TickLimit;
+                    }
+                }
+            }
+            if self.tick() {
+                observe(self);
+            }
+        }
+    }
+
+}
