@@ -43,8 +43,11 @@ pub enum ArgError {
         name: String,
         dialect: &'static str,
     },
-    #[error("--set '{spec}': {message}")]
-    BadValue { spec: String, message: String },
+    #[error("--set '{spec}': {source}")]
+    BadValue {
+        spec: String,
+        source: value::ValueError,
+    },
 }
 
 /// The names of a machine's inputs, shortened for messages.
@@ -105,9 +108,9 @@ pub fn parse_set_spec(m: &dyn MachineView, spec: &str) -> Result<UserEvent, ArgE
         dialect: m.dialect(),
     })?;
     let width = m.info(loc).map_or(64, |i| i.width);
-    let v = value::parse_value(text, width).map_err(|message| ArgError::BadValue {
+    let v = value::parse_value(text, width).map_err(|source| ArgError::BadValue {
         spec: spec.to_string(),
-        message,
+        source,
     })?;
     Ok(UserEvent {
         at: Pos::default(),

@@ -2,6 +2,32 @@
 
 use serde::{Deserialize, Serialize};
 
+/// Why typed text is not a value.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum ValueError {
+    #[error("type a value: 42, -7, 0x2A, 0b101010, bcd(1234) or q16(1.5)")]
+    Empty,
+    #[error("'{0}' is not a number")]
+    NotANumber(String),
+    #[error("{0} does not fit in 64 bits")]
+    Over64Bits(String),
+    #[error("{text} does not fit in {width} bits ({min} ..= {max})")]
+    TooWide {
+        text: String,
+        width: u8,
+        min: i128,
+        max: i128,
+    },
+    #[error("q16({0}) needs a decimal number, like q16(254.3467)")]
+    BadQ16(String),
+    #[error("q16({0}) has too many digits (at most 30)")]
+    Q16TooLong(String),
+    #[error("q16({0}) does not fit in a signed 32-bit register (-32768 ..< 32768)")]
+    Q16TooBig(String),
+    #[error("bcd({0}) needs 1 to 16 decimal digits, like bcd(1234)")]
+    BadBcd(String),
+}
+
 /// How a value is shown.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
 pub enum Format {
@@ -49,7 +75,7 @@ impl Format {
             Format::Hex => hex(value, width),
             Format::Binary => binary(value, width),
             Format::Octal => format!("0o{value:o}"),
-            Format::Bcd => bcd(value, width),
+            Format::Bcd => bcd(value),
             Format::Q16 => q16(sign_extend(value, width)),
         }
     }
@@ -90,16 +116,10 @@ pub fn binary(value: u64, width: u8) -> String {
 }
 
 /// The nibbles as decimal digits; a nibble over 9 is shown in hex and the value marked.
-pub fn bcd(value: u64, width: u8) -> String {
-    let digits = usize::from(width.clamp(4, 64)).div_ceil(4);
-    let text = format!("{value:0digits$X}");
+pub fn bcd(value: u64) -> String {
+    let text = format!("{value:X}");
     if text.chars().all(|c| c.is_ascii_digit()) {
-        let trimmed = text.trim_start_matches('0');
-        if trimmed.is_empty() {
-            "0".to_string()
-        } else {
-            trimmed.to_string()
-        }
+        text
     } else {
         format!("{text} (not BCD)")
     }
@@ -134,9 +154,9 @@ fn group_from_right(text: &str, size: usize, separator: &str) -> String {
 
 /// `round(x × 65536)`, ties away from zero, computed exactly from the decimal text; the result
 /// must fit a signed 32-bit word.
-pub fn parse_q16(inner: &str) -> Result<i64, String> {
+pub fn parse_q16(inner: &str) -> Result<i64, ValueError> {
     let text = inner.trim();
-    let malformed = || format!("q16({text}) needs a decimal number, like q16(254.3467)");
+    let malformed = || ValueError::BadQ16(text.to_string());
     let (negative, body) = match text.as_bytes().first() {
         Some(b'-') => (true, &text[1..]),
         Some(b'+') => (false, &text[1..]),
@@ -153,7 +173,7 @@ pub fn parse_q16(inner: &str) -> Result<i64, String> {
     }
     let significant = int_digits.trim_start_matches('0').len() + frac_digits.len();
     if significant > 30 {
-        return Err(format!("q16({text}) has too many digits (at most 30)"));
+        return Err(ValueError::Q16TooLong(text.to_string()));
     }
     let mantissa: u128 = format!("{int_digits}{frac_digits}")
         .parse::<u128>()
@@ -166,16 +186,14 @@ pub fn parse_q16(inner: &str) -> Result<i64, String> {
     }
     let value = if negative { -(q as i128) } else { q as i128 };
     if !(i128::from(i32::MIN)..=i128::from(i32::MAX)).contains(&value) {
-        return Err(format!(
-            "q16({text}) does not fit in a signed 32-bit register (-32768 ..< 32768)"
-        ));
+        return Err(ValueError::Q16TooBig(text.to_string()));
     }
     Ok(value as i64)
 }
 
 /// An integer as typed: optional sign, decimal, `0x`, `0b` or `0o`, `_` separators.
-pub fn parse_integer(text: &str) -> Result<i128, String> {
-    let malformed = || format!("'{text}' is not a number");
+pub fn parse_integer(text: &str) -> Result<i128, ValueError> {
+    let malformed = || ValueError::NotANumber(text.to_string());
     let (negative, body) = match text.as_bytes().first() {
         Some(b'-') => (true, &text[1..]),
         Some(b'+') => (false, &text[1..]),
@@ -202,7 +220,7 @@ pub fn parse_integer(text: &str) -> Result<i128, String> {
         let d = c.to_digit(radix).ok_or_else(malformed)?;
         value = value * i128::from(radix) + i128::from(d);
         if value > i128::from(u64::MAX) {
-            return Err(format!("{text} does not fit in 64 bits"));
+            return Err(ValueError::Over64Bits(text.to_string()));
         }
     }
     Ok(if negative { -value } else { value })
@@ -210,10 +228,10 @@ pub fn parse_integer(text: &str) -> Result<i128, String> {
 
 /// A value typed by a user for a `width`-bit location: decimal (signed or unsigned), `0x…`,
 /// `0b…`, `0o…`, `_` separators, `q16(…)` or `bcd(…)`. The result is the bit pattern to store.
-pub fn parse_value(text: &str, width: u8) -> Result<u64, String> {
+pub fn parse_value(text: &str, width: u8) -> Result<u64, ValueError> {
     let text = text.trim();
     if text.is_empty() {
-        return Err("type a value: 42, -7, 0x2A, 0b101010, bcd(1234) or q16(1.5)".to_string());
+        return Err(ValueError::Empty);
     }
     let lower = text.to_ascii_lowercase();
     let call = |name: &str| {
@@ -234,22 +252,23 @@ pub fn parse_value(text: &str, width: u8) -> Result<u64, String> {
     let min = -(1i128 << (width - 1));
     let max = (1i128 << width) - 1;
     if !(min..=max).contains(&value) {
-        return Err(format!(
-            "{text} does not fit in {width} bits ({min} ..= {max})"
-        ));
+        return Err(ValueError::TooWide {
+            text: text.to_string(),
+            width,
+            min,
+            max,
+        });
     }
     Ok((value as u64) & mask(width))
 }
 
 /// `bcd(1234)` = 0x1234: decimal digits as nibbles.
-fn parse_bcd(digits: &str) -> Result<i128, String> {
+fn parse_bcd(digits: &str) -> Result<i128, ValueError> {
     let digits: String = digits.chars().filter(|&c| c != '_').collect();
     if digits.is_empty() || digits.len() > 16 || !digits.chars().all(|c| c.is_ascii_digit()) {
-        return Err(format!(
-            "bcd({digits}) needs 1 to 16 decimal digits, like bcd(1234)"
-        ));
+        return Err(ValueError::BadBcd(digits));
     }
-    i128::from_str_radix(&digits, 16).map_err(|e| e.to_string())
+    i128::from_str_radix(&digits, 16).map_err(|_| ValueError::BadBcd(digits))
 }
 
 #[cfg(test)]
@@ -287,6 +306,8 @@ mod tests {
         assert_eq!(Format::Octal.show(0o1400, 16), "0o1400");
         assert_eq!(Format::Bcd.show(0x0017_2056, 32), "172056");
         assert_eq!(Format::Bcd.show(0x12A4, 16), "12A4 (not BCD)");
+        assert_eq!(Format::Bcd.show(0x28D, 32), "28D (not BCD)");
+        assert_eq!(Format::Bcd.show(0, 16), "0");
         assert_eq!(Format::Signed.show(u64::MAX, 64), "-1");
     }
 
@@ -316,9 +337,11 @@ mod tests {
 
     #[test]
     fn q16_is_exact_from_decimal_text() {
+        // The vendor's worked value.
         assert_eq!(parse_q16("254.3467"), Ok(16668865));
         assert_eq!(parse_q16("1"), Ok(65536));
         assert_eq!(parse_q16("-1.5"), Ok(-98304));
+        // 1/131072 is exactly half a unit: ties go away from zero.
         assert_eq!(parse_q16("0.00000762939453125"), Ok(1));
         assert_eq!(parse_q16("-0.00000762939453125"), Ok(-1));
         assert!(parse_q16("32768").is_err());

@@ -5,6 +5,7 @@
 pub mod code;
 pub mod controls;
 pub mod files;
+pub mod frames;
 pub mod panels;
 pub mod plot;
 pub mod registers;
@@ -22,21 +23,8 @@ use crate::debugger::{ChannelChoice, Debugger, Speed};
 use crate::machine::registry::{self, Dialect, Settings};
 use crate::machine::{Format, Loc};
 use crate::session::{Session, ViewSettings, is_session_path};
+pub use frames::{FrameStats, MAX_RUN_SLICE, MIN_RUN_SLICE, TARGET_FRAME, run_slice};
 use panels::DialectPanel;
-
-/// The frame time aimed at while running unlimited (under 60 fps's 16.7 ms, with room for jitter).
-pub const TARGET_FRAME: Duration = Duration::from_millis(15);
-/// Bounds of the simulation slice per frame: always some progress, never a sluggish window.
-pub const MIN_RUN_SLICE: Duration = Duration::from_millis(2);
-pub const MAX_RUN_SLICE: Duration = Duration::from_millis(12);
-
-/// The run slice for the next frame: what the target frame leaves after drawing, where
-/// `overhead` is the smoothed part of recent frames not spent simulating.
-pub fn run_slice(overhead: Duration) -> Duration {
-    TARGET_FRAME
-        .saturating_sub(overhead)
-        .clamp(MIN_RUN_SLICE, MAX_RUN_SLICE)
-}
 
 /// What a user asked for, from a panel, the menu or a key.
 #[derive(Clone, Debug, PartialEq)]
@@ -106,54 +94,6 @@ impl Default for Prefs {
 
 pub const PREFS_KEY: &str = "servoscope-prefs";
 const MAX_RECENT: usize = 10;
-
-/// Frame-time measurement (`servoscope --frame-stats N FILE`): runs the program unlimited and
-/// reports the frame interval and the time spent in `ui`, median and worst, over N frames.
-pub struct FrameStats {
-    frames: usize,
-    warmup: usize,
-    intervals: Vec<f64>,
-    work: Vec<f64>,
-    last: Option<Instant>,
-}
-
-impl FrameStats {
-    pub fn new(frames: usize) -> Self {
-        FrameStats {
-            frames: frames.max(1),
-            warmup: 30,
-            intervals: Vec::new(),
-            work: Vec::new(),
-            last: None,
-        }
-    }
-
-    fn record(&mut self, started: Instant, finished: Instant) -> Option<String> {
-        if let Some(last) = self.last {
-            if self.warmup > 0 {
-                self.warmup -= 1;
-            } else {
-                self.intervals
-                    .push(started.duration_since(last).as_secs_f64() * 1e3);
-                self.work
-                    .push(finished.duration_since(started).as_secs_f64() * 1e3);
-            }
-        }
-        self.last = Some(started);
-        (self.intervals.len() >= self.frames).then(|| {
-            let stats = |v: &mut Vec<f64>| {
-                v.sort_by(f64::total_cmp);
-                (v[v.len() / 2], v[v.len() - 1])
-            };
-            let (interval_median, interval_worst) = stats(&mut self.intervals);
-            let (work_median, work_worst) = stats(&mut self.work);
-            format!(
-                "{} frames running unlimited: frame interval median {interval_median:.2} ms, worst {interval_worst:.2} ms; time in ui (simulation + layout) median {work_median:.2} ms, worst {work_worst:.2} ms",
-                self.frames
-            )
-        })
-    }
-}
 
 /// Something that would replace the current session, waiting for the user to confirm that
 /// unsaved changes may go.
@@ -719,6 +659,9 @@ impl eframe::App for ServoscopeApp {
         if let Some(stats) = &mut self.frame_stats {
             if let Some(report) = stats.record(started, Instant::now()) {
                 eprintln!("{report}");
+                // A measurement run is not work to keep: close without "unsaved changes".
+                self.allow_close = true;
+                self.pending = None;
                 ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
                 self.frame_stats = None;
             }
@@ -767,25 +710,4 @@ pub fn run_gui(
             Ok(Box::new(app))
         }),
     )
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_run_slice_is_what_the_frame_leaves() {
-        let ms = Duration::from_millis;
-        assert_eq!(run_slice(ms(11)), ms(4));
-        assert_eq!(
-            run_slice(ms(40)),
-            MIN_RUN_SLICE,
-            "slow drawing still makes progress"
-        );
-        assert_eq!(
-            run_slice(ms(0)),
-            MAX_RUN_SLICE,
-            "fast drawing does not starve the frame"
-        );
-    }
 }

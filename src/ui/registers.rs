@@ -342,7 +342,7 @@ fn bit_grid(
                     out.push(Command::SetValue(loc, v));
                     view.edit_error = None;
                 }
-                Err(e) => view.edit_error = Some(e),
+                Err(e) => view.edit_error = Some(e.to_string()),
             }
         }
     });

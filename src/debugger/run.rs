@@ -1,0 +1,404 @@
+//! Run control and time travel: stepping, running at a speed in bounded slices, pausing,
+//! resetting, going to any position, stepping back and reverse-continue.
+
+use std::time::{Duration, Instant};
+
+use super::history::MarkKind;
+use super::{CHUNK_TICKS, Debugger, STEP_TICKS_AT_ONCE, StopWhen};
+use crate::machine::{Pos, RunState, StopReason};
+
+/// How fast Run goes.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum Speed {
+    /// Commands per second (a step that waits, like DLY, counts as one command).
+    PerSecond(f64),
+    /// As fast as the machine goes, in slices that leave every frame its time.
+    Unlimited,
+}
+
+impl Speed {
+    pub const PRESETS: [Speed; 9] = [
+        Speed::PerSecond(1.0),
+        Speed::PerSecond(2.0),
+        Speed::PerSecond(5.0),
+        Speed::PerSecond(10.0),
+        Speed::PerSecond(100.0),
+        Speed::PerSecond(1_000.0),
+        Speed::PerSecond(10_000.0),
+        Speed::PerSecond(100_000.0),
+        Speed::Unlimited,
+    ];
+
+    /// `10 commands/s`, in the dialect's word for a step.
+    pub fn label(self, steps: &str) -> String {
+        match self {
+            Speed::Unlimited => "unlimited".to_string(),
+            Speed::PerSecond(n) if n >= 1000.0 => format!("{}k {steps}/s", n / 1000.0),
+            Speed::PerSecond(n) => format!("{n} {steps}/s"),
+        }
+    }
+}
+
+/// What the debugger is doing over frames.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Goal {
+    /// Until a breakpoint, the end or a fault.
+    Continue,
+    /// Until the current command completes (a long DLY or move).
+    FinishStep,
+    /// Until the command on this line is about to run (or a breakpoint).
+    ToLine(usize),
+    /// Until this tick (beyond the furthest one reached so far).
+    ToTick(u64),
+}
+
+/// Why the debugger last stopped, for the status bar.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Event {
+    Breakpoint(usize),
+    ReachedLine(usize),
+    ReachedTick(u64),
+    Paused(Option<usize>),
+    Stepped,
+    SteppedBack,
+    /// Reverse-continue found no earlier breakpoint: back at the start.
+    NoEarlierBreakpoint,
+    Ended,
+    Faulted,
+    Reset,
+    /// The text has errors: nothing runs until they are fixed.
+    NotAssembled(usize),
+    Assembled,
+    /// An edit in the past rewrote history from this tick on.
+    FutureDiscarded(u64),
+}
+
+impl Event {
+    pub fn describe(&self) -> String {
+        match self {
+            Event::Breakpoint(l) => format!("Breakpoint hit at line {l}"),
+            Event::ReachedLine(l) => format!("Reached line {l}"),
+            Event::ReachedTick(t) => format!("At tick {t}"),
+            Event::Paused(Some(l)) => format!("Paused at line {l}"),
+            Event::Paused(None) => "Paused".to_string(),
+            Event::Stepped => "Stepped".to_string(),
+            Event::SteppedBack => "Stepped back".to_string(),
+            Event::NoEarlierBreakpoint => "No earlier breakpoint: back at the start".to_string(),
+            Event::Ended => "Program ended".to_string(),
+            Event::Faulted => "Stopped on a fault".to_string(),
+            Event::Reset => "Reset to the start".to_string(),
+            Event::NotAssembled(n) => format!("{n} error(s) in the program: fix them to run"),
+            Event::Assembled => "Program assembled".to_string(),
+            Event::FutureDiscarded(t) => {
+                format!("Edited at tick {t}: the recorded future after it was discarded")
+            }
+        }
+    }
+}
+
+impl Debugger {
+    // ---- run control -----------------------------------------------------------------------
+
+    /// Execute one instruction (F10). One that waits long continues over later frames.
+    pub fn step_command(&mut self) {
+        if !self.ready() || !self.live() {
+            return;
+        }
+        self.goal = None;
+        let start = self.pos();
+        let limit = Pos::at_tick(start.tick.saturating_add(STEP_TICKS_AT_ONCE));
+        let stop = StopWhen {
+            after: Some(start),
+            ..StopWhen::default()
+        };
+        if self.engine.forward(limit, &stop) == StopReason::TickLimit {
+            self.goal = Some(Goal::FinishStep);
+        } else {
+            self.after_stop(Event::Stepped);
+        }
+    }
+
+    /// Advance to the end of the current tick (F11): one tick, or the rest of the scan.
+    pub fn step_tick(&mut self) {
+        if !self.ready() || !self.live() {
+            return;
+        }
+        self.goal = None;
+        let next = Pos::at_tick(self.pos().tick + 1);
+        self.engine.forward(next, &StopWhen::default());
+        self.after_stop(Event::Stepped);
+    }
+
+    /// Run until a breakpoint, the end or a fault (F5).
+    pub fn run(&mut self) {
+        self.start(Goal::Continue);
+    }
+
+    /// Run until the instruction on `line` is about to execute (Ctrl+F10).
+    pub fn run_to_line(&mut self, line: usize) {
+        self.start(Goal::ToLine(line));
+    }
+
+    fn start(&mut self, goal: Goal) {
+        if !self.ready() || !self.live() {
+            return;
+        }
+        self.goal = Some(goal);
+        self.credit = 0.0;
+        self.resume_past_breakpoint = true;
+        self.event = None;
+    }
+
+    /// Stop running (F6). Answers at once: the run only advances inside `advance`.
+    pub fn pause(&mut self) {
+        if self.goal.take().is_some() {
+            self.event = Some(Event::Paused(self.machine().pc_line()));
+        }
+    }
+
+    /// Back to the start of the program with a fresh timeline (Ctrl+Shift+F5), assembling edits
+    /// first. Inputs keep their levels: they are switches on the bench, not program state.
+    pub fn reset(&mut self) {
+        self.goal = None;
+        if self.is_edited() || self.has_errors() {
+            self.assemble();
+        } else {
+            let inputs = Self::input_levels(self.machine());
+            self.restart_with_inputs(inputs);
+        }
+        self.event = Some(Event::Reset);
+    }
+
+    pub fn set_speed(&mut self, speed: Speed) {
+        self.speed = match speed {
+            Speed::PerSecond(n) if !(n.is_finite() && n > 0.0) => Speed::PerSecond(1.0),
+            s => s,
+        };
+        self.credit = 0.0;
+    }
+
+    fn live(&mut self) -> bool {
+        let live = self.machine().run_state().is_live();
+        if !live {
+            self.after_stop(Event::Stepped);
+        }
+        live
+    }
+
+    fn after_stop(&mut self, otherwise: Event) {
+        let state = self.machine().run_state();
+        self.event = Some(match state {
+            RunState::Ended => Event::Ended,
+            RunState::Faulted => {
+                let line = self.machine().fault().map_or(0, |f| f.line);
+                self.engine.mark(MarkKind::Fault, line);
+                Event::Faulted
+            }
+            _ => otherwise,
+        });
+        if !state.is_live() {
+            self.goal = None;
+        }
+    }
+
+    /// Run for this frame: `dt` seconds since the last frame (for slow speeds), `budget` the
+    /// wall time it may take (for unlimited speed). Returns true while still running.
+    pub fn advance(&mut self, dt: f64, budget: Duration) -> bool {
+        let Some(goal) = self.goal else {
+            return false;
+        };
+        if !self.machine().run_state().is_live() {
+            self.after_stop(Event::Stepped);
+            return false;
+        }
+        let started = Instant::now();
+        let mut commands = match (goal, self.speed) {
+            (Goal::FinishStep | Goal::ToTick(_), _) | (_, Speed::Unlimited) => u64::MAX,
+            (_, Speed::PerSecond(n)) => {
+                self.credit += n * dt.clamp(0.0, 0.25);
+                let whole = self.credit.floor();
+                self.credit -= whole;
+                whole as u64
+            }
+        };
+        let table = self.breakpoint_table();
+        let line = match goal {
+            Goal::ToLine(l) => Some(l),
+            _ => None,
+        };
+        while commands > 0 {
+            let skip = std::mem::take(&mut self.resume_past_breakpoint);
+            let now = self.pos();
+            let chunk = Pos::at_tick(now.tick.saturating_add(CHUNK_TICKS));
+            let reason = match goal {
+                // Mid-instruction, the next boundary ends the step; at one, it is over.
+                Goal::FinishStep if self.machine().run_state() == RunState::Running => {
+                    StopReason::Predicate
+                }
+                Goal::FinishStep => self.engine.forward(
+                    chunk,
+                    &StopWhen {
+                        any: true,
+                        ..StopWhen::default()
+                    },
+                ),
+                Goal::ToTick(t) => {
+                    match self
+                        .engine
+                        .forward(chunk.min(Pos::at_tick(t)), &StopWhen::default())
+                    {
+                        StopReason::TickLimit if self.pos().tick >= t => StopReason::Predicate,
+                        other => other,
+                    }
+                }
+                _ if commands == u64::MAX => self.engine.forward(
+                    chunk,
+                    &StopWhen {
+                        breakpoints: &table,
+                        line,
+                        skip_first: skip,
+                        ..StopWhen::default()
+                    },
+                ),
+                _ => {
+                    let at_stop = StopWhen {
+                        breakpoints: &table,
+                        line,
+                        ..StopWhen::default()
+                    };
+                    if !skip && at_stop.holds(self.machine()) {
+                        StopReason::Predicate
+                    } else {
+                        commands -= 1;
+                        let one = StopWhen {
+                            after: Some(now),
+                            ..StopWhen::default()
+                        };
+                        let limit = Pos::at_tick(now.tick.saturating_add(STEP_TICKS_AT_ONCE));
+                        match self.engine.forward(limit, &one) {
+                            StopReason::Predicate => StopReason::TickLimit,
+                            other => other,
+                        }
+                    }
+                }
+            };
+            match reason {
+                StopReason::Stopped => {
+                    self.after_stop(Event::Stepped);
+                    return false;
+                }
+                StopReason::Predicate => {
+                    self.goal = None;
+                    let line = self.machine().pc_line().unwrap_or(0);
+                    self.event = Some(match goal {
+                        Goal::FinishStep => Event::Stepped,
+                        Goal::ToTick(t) => Event::ReachedTick(t),
+                        Goal::ToLine(l) if l == line => Event::ReachedLine(line),
+                        _ => {
+                            self.engine.mark(MarkKind::Breakpoint, line);
+                            Event::Breakpoint(line)
+                        }
+                    });
+                    return false;
+                }
+                StopReason::TickLimit => {
+                    if started.elapsed() >= budget {
+                        break;
+                    }
+                }
+            }
+        }
+        true
+    }
+
+    fn breakpoint_table(&self) -> Vec<bool> {
+        let len = self.breakpoints.last().map_or(0, |&l| l + 1);
+        let mut table = vec![false; len];
+        for &l in &self.breakpoints {
+            table[l] = true;
+        }
+        table
+    }
+
+    // ---- time travel -----------------------------------------------------------------------
+
+    /// Go to any tick (its start). Within the recorded timeline this is a replay from the
+    /// nearest checkpoint; beyond it the program runs there over the next frames.
+    pub fn goto_tick(&mut self, tick: u64) {
+        self.goto(Pos::at_tick(tick));
+    }
+
+    /// Go to any position, inside a tick too.
+    pub fn goto(&mut self, pos: Pos) {
+        self.goal = None;
+        if self.has_errors() || self.is_edited() {
+            return;
+        }
+        if pos <= self.furthest() {
+            self.engine.goto(pos);
+            self.event = Some(Event::ReachedTick(self.pos().tick));
+        } else if self.machine().run_state().is_live() || self.pos() < self.furthest() {
+            self.engine.goto(self.furthest());
+            if pos.step == 0 {
+                self.goal = Some(Goal::ToTick(pos.tick));
+            } else {
+                // Inside a tick beyond the history: short, so at once.
+                self.engine.forward(pos, &StopWhen::default());
+                self.event = Some(Event::ReachedTick(self.pos().tick));
+            }
+        }
+    }
+
+    /// Back to the start of the current tick, or of the previous one when already at a start
+    /// (Shift+F11).
+    pub fn step_back_tick(&mut self) {
+        let now = self.pos();
+        if now == Pos::default() || self.is_edited() {
+            return;
+        }
+        self.goal = None;
+        let to = if now.step > 0 {
+            Pos::at_tick(now.tick)
+        } else {
+            Pos::at_tick(now.tick - 1)
+        };
+        self.engine.goto(to);
+        self.event = Some(Event::SteppedBack);
+    }
+
+    /// Back to where the last instruction started (Shift+F10).
+    pub fn step_back_command(&mut self) {
+        let now = self.pos();
+        if now == Pos::default() || self.is_edited() {
+            return;
+        }
+        self.goal = None;
+        let any = StopWhen {
+            any: true,
+            ..StopWhen::default()
+        };
+        let start = self.engine.find_back(now, &any).unwrap_or_default();
+        self.engine.goto(start);
+        self.event = Some(Event::SteppedBack);
+    }
+
+    /// Back to the last time a breakpoint was about to run, or the start (Shift+F5).
+    pub fn reverse_continue(&mut self) {
+        let now = self.pos();
+        if now == Pos::default() || self.is_edited() {
+            return;
+        }
+        self.goal = None;
+        let table = self.breakpoint_table();
+        let at_breakpoint = StopWhen {
+            breakpoints: &table,
+            ..StopWhen::default()
+        };
+        let hit = self.engine.find_back(now, &at_breakpoint);
+        self.engine.goto(hit.unwrap_or_default());
+        self.event = Some(match hit {
+            Some(_) => Event::Breakpoint(self.machine().pc_line().unwrap_or(0)),
+            None => Event::NoEarlierBreakpoint,
+        });
+    }
+}
