@@ -28,6 +28,10 @@ loop: MRV 3000, 38650, 16106128
       JMP loop
 ";
 
+fn sl(d: &Debugger) -> &SilverLode {
+    d.machine_as::<SilverLode>().expect("a SilverLode machine")
+}
+
 fn history() -> Debugger {
     let mut d = Debugger::new("bench.qsl", PROGRAM);
     d.set_speed(Speed::Unlimited);
@@ -58,11 +62,7 @@ fn benches(c: &mut Criterion) {
         b.iter(|| {
             i += 1;
             d.goto_tick(tick_for(i));
-            black_box(
-                d.machine_as::<SilverLode>()
-                    .expect("a SilverLode machine")
-                    .reg(1),
-            )
+            black_box(sl(&d).reg(1))
         })
     });
     group.bench_function("step back one tick", |b| {

@@ -58,12 +58,7 @@ fn opens_the_built_in_example_ready_to_step() {
 #[test]
 fn f10_moves_the_line_and_changes_a_register() {
     let mut h = harness(ServoscopeApp::new(Prefs::default()));
-    let before = h
-        .state()
-        .debugger
-        .machine_as::<SilverLode>()
-        .expect("a SilverLode machine")
-        .reg(40);
+    let before = sl(h.state()).reg(40);
     h.key_press(Key::F10);
     h.run_steps(2);
     let m = sl(h.state());
@@ -106,14 +101,7 @@ fn a_breakpoint_clicked_in_the_gutter_stops_a_run() {
     h.key_press(Key::F5);
     h.run_steps(3);
     assert_eq!(h.state().debugger.machine().run_state(), RunState::Ended);
-    assert_eq!(
-        h.state()
-            .debugger
-            .machine_as::<SilverLode>()
-            .expect("a SilverLode machine")
-            .reg(12),
-        3
-    );
+    assert_eq!(sl(h.state()).reg(12), 3);
 }
 
 #[test]
@@ -167,14 +155,7 @@ fn typing_a_value_into_a_register() {
     h.step();
     h.get_by_label("Set").click();
     h.run_steps(2);
-    assert_eq!(
-        h.state()
-            .debugger
-            .machine_as::<SilverLode>()
-            .expect("a SilverLode machine")
-            .reg(20),
-        16
-    );
+    assert_eq!(sl(h.state()).reg(20), 16);
 
     // A bad entry says why and changes nothing.
     h.get_by_label("Value of R20").focus();
@@ -184,14 +165,7 @@ fn typing_a_value_into_a_register() {
     h.step();
     h.get_by_label("Set").click();
     h.run_steps(2);
-    assert_eq!(
-        h.state()
-            .debugger
-            .machine_as::<SilverLode>()
-            .expect("a SilverLode machine")
-            .reg(20),
-        16
-    );
+    assert_eq!(sl(h.state()).reg(20), 16);
     h.get_by_label_contains("Not changed");
 }
 
@@ -203,24 +177,10 @@ fn clicking_a_bit_flips_it() {
     h.run_steps(2);
     h.get_by_label("R20 bit 3").click();
     h.run_steps(2);
-    assert_eq!(
-        h.state()
-            .debugger
-            .machine_as::<SilverLode>()
-            .expect("a SilverLode machine")
-            .reg(20),
-        5 | 8
-    );
+    assert_eq!(sl(h.state()).reg(20), 5 | 8);
     h.get_by_label("R20 bit 31").click();
     h.run_steps(2);
-    assert_eq!(
-        h.state()
-            .debugger
-            .machine_as::<SilverLode>()
-            .expect("a SilverLode machine")
-            .reg(20) as u32,
-        0x8000_000D
-    );
+    assert_eq!(sl(h.state()).reg(20) as u32, 0x8000_000D);
 }
 
 #[test]
@@ -342,14 +302,7 @@ fn dropping_a_file_on_the_window_opens_it() {
     );
     h.key_press(Key::F10);
     h.run_steps(1);
-    assert_eq!(
-        h.state()
-            .debugger
-            .machine_as::<SilverLode>()
-            .expect("a SilverLode machine")
-            .reg(31),
-        7
-    );
+    assert_eq!(sl(h.state()).reg(31), 7);
     let _ = std::fs::remove_file(&path);
 }
 
@@ -477,14 +430,7 @@ fn stepping_back_with_the_keys() {
         h.key_press(Key::F10);
         h.run_steps(1);
     }
-    assert_eq!(
-        h.state()
-            .debugger
-            .machine_as::<SilverLode>()
-            .expect("a SilverLode machine")
-            .reg(12),
-        2
-    );
+    assert_eq!(sl(h.state()).reg(12), 2);
     h.key_press_modifiers(Modifiers::SHIFT, Key::F10);
     h.run_steps(2);
     let m = sl(h.state());
@@ -528,14 +474,7 @@ fn the_timeline_and_go_to_tick() {
     h.key_press(Key::Enter);
     h.run_steps(2);
     assert_eq!(h.state().debugger.machine().ticks(), 250);
-    assert_eq!(
-        h.state()
-            .debugger
-            .machine_as::<SilverLode>()
-            .expect("a SilverLode machine")
-            .reg(13),
-        125
-    );
+    assert_eq!(sl(h.state()).reg(13), 125);
     assert_eq!(
         h.state().debugger.furthest_tick(),
         1000,
@@ -629,13 +568,7 @@ fn sessions_save_with_ctrl_s_and_reopen() {
     let app = h.state();
     assert_eq!(sl(app), &saved_machine, "exactly the saved moment");
     assert!(app.debugger.breakpoints().contains(&3));
-    assert_eq!(
-        app.debugger
-            .machine_as::<SilverLode>()
-            .expect("a SilverLode machine")
-            .reg(30),
-        77
-    );
+    assert_eq!(sl(app).reg(30), 77);
 
     // A corrupt session is refused and the current one stays.
     let bad = dir.join("bad.ron");
@@ -686,12 +619,7 @@ fn the_servo_model_is_settable_and_saved_with_the_session() {
     // A stiffer loop follows a step faster: after 100 ticks it is closer to the target.
     h.state_mut().debugger.goto_tick(100);
     h.run_steps(3);
-    let stiff = h
-        .state()
-        .debugger
-        .machine_as::<SilverLode>()
-        .expect("a SilverLode machine")
-        .reg(1);
+    let stiff = sl(h.state()).reg(1);
     let mut soft = common::load("WRP 0, 1000\nDLY 3000\nEND").unwrap();
     for _ in 0..100 {
         soft.step_tick();

@@ -15,6 +15,10 @@ use servoscope::machine::silverlode::view::{ISW, io, reg};
 use servoscope::machine::{Machine, MachineView, RunState};
 use servoscope::session::{Session, SessionError, ViewSettings};
 
+fn sl(d: &Debugger) -> &SilverLode {
+    d.machine_as::<SilverLode>().expect("a SilverLode machine")
+}
+
 fn temp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("servoscope-sessions-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -267,18 +271,8 @@ fn a_session_saved_in_the_debugger_resumes_in_the_runner() {
         v["registers"]["30"], 0xBEEF,
         "the register edit was replayed"
     );
-    assert_eq!(
-        v["registers"]["20"],
-        d.machine_as::<SilverLode>()
-            .expect("a SilverLode machine")
-            .reg(20)
-    );
-    assert_eq!(
-        v["registers"]["1"],
-        d.machine_as::<SilverLode>()
-            .expect("a SilverLode machine")
-            .reg(1)
-    );
+    assert_eq!(v["registers"]["20"], sl(&d).reg(20));
+    assert_eq!(v["registers"]["1"], sl(&d).reg(1));
 }
 
 /// The lesson sessions as shipped, and the format-1 files kept unchanged as fixtures: both
@@ -339,23 +333,12 @@ fn fixed_point_lesson(dir: &str) {
         Some(16),
         "about to run MULT_S64_SHR16"
     );
-    assert_eq!(
-        d.machine_as::<SilverLode>()
-            .expect("a SilverLode machine")
-            .reg(20),
-        40000
-    );
+    assert_eq!(sl(&d).reg(20), 40000);
     assert!(d.breakpoints().contains(&16));
     assert_eq!(s.view.selected.as_deref(), Some("R21"));
     let mut d = d;
     d.step_command();
-    assert_eq!(
-        d.machine_as::<SilverLode>()
-            .expect("a SilverLode machine")
-            .reg(21),
-        1016,
-        "(40000 × 1665) >> 16"
-    );
+    assert_eq!(sl(&d).reg(21), 1016, "(40000 × 1665) >> 16");
 }
 
 #[test]
@@ -372,13 +355,7 @@ fn fifo_queue_lesson(dir: &str) {
     d.run();
     while d.advance(0.016, Duration::from_secs(5)) {}
     assert_eq!(d.machine().pc_line(), Some(19), "stops on the first pop");
-    let h = d
-        .machine_as::<SilverLode>()
-        .expect("a SilverLode machine")
-        .queues()[0]
-        .header
-        .clone()
-        .unwrap();
+    let h = sl(&d).queues()[0].header.clone().unwrap();
     assert_eq!(h.items, [1000, 2500, -500]);
 }
 
@@ -391,7 +368,7 @@ fn homing_session_opens_stopped_on_the_sensor() {
 
 fn homing_session(dir: &str) {
     let (_, d) = example_in(dir, "homing_on_input.ron");
-    let m = d.machine_as::<SilverLode>().expect("a SilverLode machine");
+    let m = sl(&d);
     assert_eq!(m.ticks(), 3001);
     assert_eq!(d.machine().read(io(2)), 1, "IO3 high");
     assert!(m.isw() & 1 << 11 != 0, "input found");

@@ -124,13 +124,7 @@ fn back_and_forth_gives_identical_states() {
         d.machine().read(io(0)) == 1,
         "the IO1 switch at tick 300 was replayed"
     );
-    assert_eq!(
-        d.machine_as::<SilverLode>()
-            .expect("a SilverLode machine")
-            .reg(30),
-        1234,
-        "the edit at tick 500 was replayed"
-    );
+    assert_eq!(sl(&d).reg(30), 1234, "the edit at tick 500 was replayed");
 }
 
 #[test]
@@ -149,13 +143,7 @@ fn step_back_one_command_returns_to_its_start() {
         ),
         (51, 2, Some(3))
     );
-    assert_eq!(
-        d.machine_as::<SilverLode>()
-            .expect("a SilverLode machine")
-            .reg(12),
-        0,
-        "WRP 12 undone"
-    );
+    assert_eq!(sl(&d).reg(12), 0, "WRP 12 undone");
     d.step_back_command();
     assert_eq!(
         (d.machine().ticks(), d.machine().pc_line()),
@@ -163,15 +151,7 @@ fn step_back_one_command_returns_to_its_start() {
         "back over the whole DLY"
     );
     d.step_back_command();
-    assert_eq!(
-        (
-            d.machine().ticks(),
-            d.machine_as::<SilverLode>()
-                .expect("a SilverLode machine")
-                .reg(11)
-        ),
-        (0, 0)
-    );
+    assert_eq!((d.machine().ticks(), sl(&d).reg(11)), (0, 0));
     d.step_back_command();
     assert_eq!(d.machine().ticks(), 0, "nothing before the start");
     // Mid-command (stepped by ticks into the DLY), back goes to the DLY's start.
@@ -193,21 +173,10 @@ fn reverse_continue_finds_the_previous_breakpoint_hit() {
     d.toggle_breakpoint(2);
     d.reverse_continue();
     assert_eq!(d.machine().pc_line(), Some(2));
-    assert_eq!(
-        d.machine_as::<SilverLode>()
-            .expect("a SilverLode machine")
-            .reg(12),
-        2,
-        "the third pass, about to increment"
-    );
+    assert_eq!(sl(&d).reg(12), 2, "the third pass, about to increment");
     let third = d.machine().ticks();
     d.reverse_continue();
-    assert_eq!(
-        d.machine_as::<SilverLode>()
-            .expect("a SilverLode machine")
-            .reg(12),
-        1
-    );
+    assert_eq!(sl(&d).reg(12), 1);
     assert!(d.machine().ticks() < third);
     d.reverse_continue();
     d.reverse_continue();

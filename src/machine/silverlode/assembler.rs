@@ -724,38 +724,18 @@ fn strip_call<'a>(text: &'a str, name: &str) -> Option<&'a str> {
 
 /// Decimal, `0x` hex or `0b` binary, optional sign, `_` separators. Range is checked by callers.
 pub fn parse_number(text: &str) -> OpResult<i64> {
-    let malformed = || format!("'{text}' is not a number");
-    let (negative, body) = match text.as_bytes().first() {
-        Some(b'-') => (true, &text[1..]),
-        Some(b'+') => (false, &text[1..]),
-        _ => (false, text),
-    };
-    let lower = body.to_ascii_lowercase();
-    let (radix, digits) = if let Some(d) = lower.strip_prefix("0x") {
-        (16, d)
-    } else if let Some(d) = lower.strip_prefix("0b") {
-        (2, d)
-    } else {
-        (10, lower.as_str())
-    };
-    if !digits.chars().any(|c| c.is_digit(radix)) {
-        return Err(malformed());
+    let body = text.trim_start_matches(['-', '+']).to_ascii_lowercase();
+    if body.starts_with("0o") {
+        // Octal is not SilverLode syntax.
+        return Err(format!("'{text}' is not a number"));
     }
-    let mut value: i64 = 0;
-    for c in digits.chars() {
-        if c == '_' {
-            continue;
-        }
-        let d = c.to_digit(radix).ok_or_else(malformed)?;
-        value = value
-            .checked_mul(i64::from(radix))
-            .and_then(|v| v.checked_add(i64::from(d)))
-            .ok_or_else(|| format!("{text} does not fit in 32 bits"))?;
-        if value > 1 << 40 {
-            return Err(format!("{text} does not fit in 32 bits"));
-        }
+    let too_big = || format!("{text} does not fit in 32 bits");
+    match crate::machine::value::parse_integer(text) {
+        Ok(v) if v.unsigned_abs() > 1 << 40 => Err(too_big()),
+        Ok(v) => Ok(v as i64),
+        Err(crate::machine::value::ValueError::Over64Bits(_)) => Err(too_big()),
+        Err(e) => Err(e.to_string()),
     }
-    Ok(if negative { -value } else { value })
 }
 
 use crate::machine::value::parse_q16;
