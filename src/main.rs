@@ -7,7 +7,7 @@ use clap::{Parser, Subcommand};
 
 use servoscope::machine::registry::{self, Dialect, Settings};
 use servoscope::runner::{self, Report};
-use servoscope::session::{Session, is_session_path};
+use servoscope::session::{Recorded, Session, is_session_path};
 
 #[derive(Parser)]
 #[command(
@@ -223,15 +223,15 @@ fn run(
         machine: done.machine(),
     };
     if let Some(out) = save {
-        let session = runner::session_of_run(
-            start.dialect,
-            &start.name,
-            start.path.as_deref(),
-            &start.source,
-            &settings,
-            done.machine(),
-            &events,
-        );
+        let session = Session::of_run(Recorded {
+            dialect: start.dialect,
+            program_name: &start.name,
+            program_path: start.path.clone(),
+            program: &start.source,
+            settings: &settings,
+            machine: done.machine(),
+            events: &events,
+        });
         session.save(out).map_err(|e| e.to_string())?;
     }
     if json {

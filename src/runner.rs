@@ -4,13 +4,11 @@
 //! followed by the fields the dialect's spec defines.
 
 use std::fmt::Write as _;
-use std::path::Path;
 
 use crate::debugger::Engine;
 use crate::debugger::history::{self, Change, UserEvent};
-use crate::machine::registry::{AtLimit, Dialect, Settings};
+use crate::machine::registry::{AtLimit, Dialect};
 use crate::machine::{Loc, Machine, MachineView, Pos, RunState, SpaceKind, value};
-use crate::session::{FORMAT_VERSION, Session, named_events};
 
 /// An input toggle: `input` flips when the tick counter equals `tick`, before that tick runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -158,31 +156,6 @@ pub fn run_events<M: Machine>(machine: &mut M, events: &[UserEvent], max_ticks: 
 /// Run `machine` until it stops or reaches `max_ticks`, toggling inputs on the way.
 pub fn run_with_inputs<M: Machine>(machine: &mut M, toggles: &[InputToggle], max_ticks: u64) {
     run_events(machine, &toggles_to_events(toggles), max_ticks);
-}
-
-/// A session that reproduces a headless run: the program, its events, the position it
-/// stopped at.
-pub fn session_of_run(
-    dialect: &Dialect,
-    name: &str,
-    path: Option<&Path>,
-    source: &str,
-    settings: &Settings,
-    machine: &dyn MachineView,
-    events: &[UserEvent],
-) -> Session {
-    Session {
-        format: FORMAT_VERSION,
-        dialect: dialect.name.to_string(),
-        program_name: name.to_string(),
-        program_path: path.map(Path::to_path_buf),
-        program: source.to_string(),
-        settings: settings.clone(),
-        events: named_events(machine, events),
-        at: machine.pos(),
-        furthest: machine.pos(),
-        ..Session::default()
-    }
 }
 
 /// The final state of a run, as the runner prints it.

@@ -285,23 +285,50 @@ pub fn named_events(m: &dyn MachineView, events: &[UserEvent]) -> Vec<SessionEve
         .collect()
 }
 
+/// What every session holds: the program, its dialect and settings, and the recorded edits.
+pub struct Recorded<'a> {
+    pub dialect: &'a Dialect,
+    pub program_name: &'a str,
+    pub program_path: Option<PathBuf>,
+    pub program: &'a str,
+    pub settings: &'a Settings,
+    pub machine: &'a dyn MachineView,
+    pub events: &'a [UserEvent],
+}
+
 impl Session {
-    /// The debugging moment as a session.
-    pub fn capture(debugger: &Debugger, program_path: Option<PathBuf>, view: ViewSettings) -> Self {
-        let m = debugger.machine();
-        let defaults = ChannelChoice::defaults(debugger.dialect());
-        let channels = debugger.channel_choices();
+    /// A session of a recorded run, at the machine's position (the runner's `--save-session`).
+    pub fn of_run(run: Recorded<'_>) -> Self {
         Session {
             format: FORMAT_VERSION,
-            dialect: debugger.dialect().name.to_string(),
-            program_name: debugger.name().to_string(),
+            dialect: run.dialect.name.to_string(),
+            program_name: run.program_name.to_string(),
+            program_path: run.program_path,
+            program: run.program.to_string(),
+            settings: run.settings.clone(),
+            events: named_events(run.machine, run.events),
+            at: run.machine.pos(),
+            furthest: run.machine.pos(),
+            ..Session::default()
+        }
+    }
+
+    /// The debugging moment as a session.
+    pub fn capture(debugger: &Debugger, program_path: Option<PathBuf>, view: ViewSettings) -> Self {
+        let defaults = ChannelChoice::defaults(debugger.dialect());
+        let channels = debugger.channel_choices();
+        let run = Session::of_run(Recorded {
+            dialect: debugger.dialect(),
+            program_name: debugger.name(),
             program_path,
-            program: debugger.source().to_string(),
+            program: debugger.source(),
+            settings: debugger.settings(),
+            machine: debugger.machine(),
+            events: debugger.events(),
+        });
+        Session {
             breakpoints: debugger.breakpoints().iter().copied().collect(),
-            settings: debugger.settings().clone(),
             channels: (channels != defaults.as_slice()).then(|| channels.to_vec()),
-            events: named_events(m, debugger.events()),
-            at: debugger.pos(),
             furthest: debugger.furthest(),
             marks: debugger
                 .marks()
@@ -313,6 +340,7 @@ impl Session {
                 })
                 .collect(),
             view,
+            ..run
         }
     }
 
