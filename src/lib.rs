@@ -12,5 +12,6 @@ pub mod debugger;
 pub mod machine;
 pub mod runner;
 pub mod session;
+pub mod text;
 #[cfg(feature = "gui")]
 pub mod ui;

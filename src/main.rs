@@ -1,10 +1,12 @@
 //! `servoscope`: opens the debugger, or runs a program headless (`servoscope run`).
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+use servoscope::machine::diagnostics::printable;
 use servoscope::machine::registry::{self, Dialect, Settings};
 use servoscope::runner::{self, Report};
 use servoscope::session::{Recorded, Session, is_session_path};
@@ -80,7 +82,7 @@ fn main() -> ExitCode {
             ) {
                 Ok(code) => code,
                 Err(message) => {
-                    eprintln!("servoscope: {message}");
+                    say(&format!("servoscope: {message}"));
                     2
                 }
             },
@@ -98,17 +100,17 @@ fn open_window(
     if let Some(name) = &dialect
         && registry::by_name(name).is_none()
     {
-        eprintln!(
+        say(&format!(
             "servoscope: {}",
             registry::ChooseError::UnknownName(name.clone())
-        );
+        ));
         return ExitCode::from(2);
     }
     match servoscope::ui::run_gui(file, dialect, frame_stats) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("servoscope: cannot open the window: {e}");
-            eprintln!("(no display? `servoscope run FILE` works without one)");
+            say(&format!("servoscope: cannot open the window: {e}"));
+            say("(no display? `servoscope run FILE` works without one)");
             ExitCode::from(2)
         }
     }
@@ -116,8 +118,8 @@ fn open_window(
 
 #[cfg(not(feature = "gui"))]
 fn open_window(_: Option<PathBuf>, _: Option<String>, _: Option<usize>) -> ExitCode {
-    eprintln!(
-        "servoscope: this build has no window (built without the `gui` feature); use `servoscope run FILE`"
+    say(
+        "servoscope: this build has no window (built without the `gui` feature); use `servoscope run FILE`",
     );
     ExitCode::from(2)
 }
@@ -155,7 +157,7 @@ fn read_start(file: &Path, dialect: Option<&str>) -> Result<Start, String> {
         });
     }
     let dialect = registry::choose(file, dialect).map_err(|e| e.to_string())?;
-    let source = std::fs::read_to_string(file).map_err(|e| format!("cannot read {name}: {e}"))?;
+    let source = servoscope::text::read(file).map_err(|e| e.to_string())?;
     let short = file
         .file_name()
         .map_or(name.clone(), |n| n.to_string_lossy().into_owned());
@@ -189,8 +191,12 @@ fn run(
     let engine = match (start.dialect.open)(&start.source, &settings) {
         Ok(engine) => engine,
         Err(diagnostics) => {
-            for d in &diagnostics {
-                eprintln!("{}", d.with_file(&name));
+            for d in diagnostics.iter().take(MAX_DIAGNOSTICS_SHOWN) {
+                say(&d.with_file(&name).to_string());
+            }
+            if diagnostics.len() > MAX_DIAGNOSTICS_SHOWN {
+                let more = diagnostics.len() - MAX_DIAGNOSTICS_SHOWN;
+                say(&format!("... and {more} more error(s)"));
             }
             return Err(format!(
                 "{name}: {} error(s), nothing run",
@@ -234,10 +240,25 @@ fn run(
         });
         session.save(out).map_err(|e| e.to_string())?;
     }
-    if json {
-        println!("{}", report.to_json());
+    let text = if json {
+        report.to_json() + "\n"
     } else {
-        print!("{}", report.to_text());
+        report.to_text()
+    };
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => Ok(report.exit_code()),
+        // The reader went away (`| head`): nothing to tell anyone, as Unix tools do.
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(2),
+        Err(e) => Err(format!("cannot write the report to standard output: {e}")),
     }
-    Ok(report.exit_code())
+}
+
+/// Diagnostics printed at most; the rest are counted.
+const MAX_DIAGNOSTICS_SHOWN: usize = 100;
+
+/// A line on standard error, control characters escaped. A failing stderr has nowhere to be
+/// reported: it is ignored rather than allowed to panic.
+fn say(line: &str) {
+    let _ = writeln!(std::io::stderr().lock(), "{}", printable(line));
 }

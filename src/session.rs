@@ -354,11 +354,18 @@ impl Session {
 
     /// Parse a session of any known format; `path` names the file in messages.
     pub fn from_ron(text: &str, path: &str) -> Result<Session, SessionError> {
+        let text = &crate::text::normalize(text);
         let malformed = |e: ron::error::SpannedError| SessionError::Malformed {
             path: path.to_string(),
             line: e.span.start.line,
             col: e.span.start.col,
-            message: e.code.to_string(),
+            message: match e.code {
+                // ron's own advice (raise its recursion limit) is for programmers.
+                ron::Error::ExceededRecursionLimit => {
+                    "nested far deeper than any session; the file is damaged".to_string()
+                }
+                code => code.to_string(),
+            },
         };
         let header: Header = ron::from_str(text).map_err(malformed)?;
         if header.format == 0 {
@@ -397,9 +404,12 @@ impl Session {
 
     pub fn load(path: &Path) -> Result<Session, SessionError> {
         let name = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| SessionError::Read {
-            path: name.clone(),
-            source,
+        let text = crate::text::read(path).map_err(|e| match e {
+            crate::text::TextError::Read { path, source } => SessionError::Read { path, source },
+            other => SessionError::Foreign {
+                path: name.clone(),
+                reason: other.to_string(),
+            },
         })?;
         Session::from_ron(&text, &name)
     }
@@ -513,6 +523,32 @@ mod tests {
             other => panic!("{other:?}"),
         }
         assert!(Session::from_ron("not ron at all {", "s.ron").is_err());
+    }
+
+    #[test]
+    fn sessions_from_other_editors_and_damaged_ones() {
+        let lf =
+            "(format: 2, dialect: \"silverlode\", program: \"WRP 11, 1\\nEND\", at: (tick: 1))";
+        let want = Session::from_ron(lf, "s.ron").expect("loads");
+        let bom = format!("\u{feff}{}", lf.replace('\n', "\r\n"));
+        assert_eq!(
+            Session::from_ron(&bom, "s.ron").expect("a BOM is skipped"),
+            want
+        );
+        let cr =
+            "(format: 2,\rdialect: \"silverlode\",\rprogram: \"WRP 11, 1\\nEND\",\rat: (tick: 1))";
+        assert_eq!(Session::from_ron(cr, "s.ron").expect("CR line ends"), want);
+        let deep = format!(
+            "(format: 2, dialect: \"silverlode\", view: {}",
+            "(".repeat(10_000)
+        );
+        match Session::from_ron(&deep, "deep.ron") {
+            Err(SessionError::Malformed { message, .. }) => {
+                assert!(!message.contains("recursion_limit"), "{message}");
+                assert!(message.contains("damaged"), "{message}");
+            }
+            other => panic!("{other:?}"),
+        }
     }
 
     #[test]

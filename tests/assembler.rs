@@ -312,6 +312,33 @@ proptest! {
         }
     }
 
+    /// Line endings and a byte-order mark from other editors change nothing: the same
+    /// diagnostics, the same program.
+    #[test]
+    fn other_editors_line_endings_read_the_same(text in program_text(), ending in 0..3usize, bom: bool) {
+        let lf = servoscope::text::normalize(&text).into_owned();
+        let ended = match ending {
+            0 => lf.replace('\n', "\r\n"),
+            1 => lf.replace('\n', "\r"),
+            _ => lf.clone(),
+        };
+        let other = if bom { format!("\u{feff}{ended}") } else { ended };
+        let a = servoscope::debugger::Debugger::new("a.qsl", lf.as_str());
+        let b = servoscope::debugger::Debugger::new("b.qsl", other.as_str());
+        prop_assert_eq!(a.diagnostics(), b.diagnostics());
+        prop_assert_eq!(a.source(), b.source());
+    }
+
+    /// Names of any length: "did you mean" stays bounded and the errors are still all there.
+    #[test]
+    fn long_undefined_names_fail_cleanly(len in 60usize..3_000, labels in 0usize..400) {
+        let mut text: String = (0..labels).map(|i| format!("l{i}: WRP 11, {i}\n")).collect();
+        text.push_str(&format!("JMP {}\nCLC INC, {}\n", "x".repeat(len), "y".repeat(len)));
+        let diags = assemble(&text).expect_err("two undefined names");
+        prop_assert_eq!(diags.len(), 2);
+        prop_assert!(diags.iter().all(|d| !d.message.contains("did you mean")));
+    }
+
     #[test]
     fn errors_point_inside_their_line(text in program_text()) {
         if let Err(diags) = assemble(&text) {

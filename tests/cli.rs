@@ -296,3 +296,106 @@ fn set_and_inputs_are_recorded_in_a_saved_session() {
     assert_eq!(resumed.stdout, straight.stdout, "the session replays both");
     let _ = std::fs::remove_file(saved);
 }
+
+#[test]
+fn a_failing_stdout_is_reported_not_a_panic() {
+    let f = program_file("WRP 11, 1\nEND\n");
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .expect("/dev/full exists on Linux");
+    let out = Command::new(env!("CARGO_BIN_EXE_servoscope"))
+        .args(["run", f.path(), "--json"])
+        .stdout(full)
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.lines().count(), 1, "one line: {err}");
+    assert!(err.contains("cannot write"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn a_closed_pipe_ends_quietly() {
+    // Long enough that the reader is gone before the report is written.
+    let f = program_file("loop: CLC INC, 11\nJMP loop\n");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_servoscope"))
+        .args(["run", f.path(), "--max-ticks", "3000000", "--json"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("runs");
+    drop(child.stdout.take());
+    let out = child.wait_with_output().expect("ends");
+    assert_ne!(out.status.code(), Some(101), "no panic");
+    assert!(out.status.code().is_some(), "no signal either");
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn files_from_other_editors_run_as_written() {
+    let want = servoscope(&[
+        "run",
+        program_file("WRP 11, 1\nWRP 12, 2\nEND\n").path(),
+        "--json",
+    ]);
+    let want = json(&want);
+    for text in [
+        "WRP 11, 1\rWRP 12, 2\rEND\r",
+        "WRP 11, 1\r\nWRP 12, 2\r\nEND\r\n",
+        "\u{feff}WRP 11, 1\nWRP 12, 2\nEND\n",
+    ] {
+        let f = program_file(text);
+        let out = servoscope(&["run", f.path(), "--json"]);
+        assert_eq!(out.status.code(), Some(0), "{text:?}");
+        assert_eq!(json(&out), want, "{text:?}");
+    }
+    let bad =
+        std::env::temp_dir().join(format!("servoscope-cli-latin1-{}.qsl", std::process::id()));
+    std::fs::write(&bad, b"WRP 11, 1 ; caf\xe9\nEND\n").expect("write");
+    let out = servoscope(&["run", bad.to_str().expect("utf-8"), "--json"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("not UTF-8") && err.contains("offset 15"),
+        "{err}"
+    );
+    let _ = std::fs::remove_file(&bad);
+}
+
+#[test]
+fn messages_never_carry_raw_control_bytes() {
+    let f = program_file("\u{1b}[2J\u{7}BOGUS 1\nEND\n");
+    let out = servoscope(&["run", f.path()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        !out.stderr.iter().any(|&b| b == 0x1b || b == 0x07),
+        "escaped: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("\\u{1b}"));
+}
+
+#[test]
+fn a_file_of_errors_only_reports_a_bounded_list() {
+    // Every line jumps to an undefined label: the worst case for "did you mean".
+    let text: String = (0..20_000).map(|i| format!("a{i}: JMP b{i}\n")).collect();
+    let f = program_file(&text);
+    let out = servoscope(&["run", f.path()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    let lines: Vec<&str> = err.lines().collect();
+    assert_eq!(
+        lines.len(),
+        102,
+        "100 errors, the count of the rest, the summary"
+    );
+    assert!(lines[100].contains("19900 more"), "{}", lines[100]);
+    assert!(lines[101].contains("20000 error(s)"), "{}", lines[101]);
+    assert!(lines[0].contains("undefined label 'b0'"), "{}", lines[0]);
+}

@@ -115,7 +115,7 @@ impl Debugger {
         let mut d = Debugger {
             dialect,
             name: name.into(),
-            source: source.into(),
+            source: crate::text::normalize(&source.into()).into_owned(),
             assembled_source: String::new(),
             diagnostics: Vec::new(),
             engine: empty_engine(dialect, &settings),
@@ -335,7 +335,7 @@ impl Debugger {
             self.engine = empty_engine(dialect, &self.settings);
         }
         self.name = name.into();
-        self.source = source.into();
+        self.source = crate::text::normalize(&source.into()).into_owned();
         self.assembled_source.clear();
         self.breakpoints.clear();
         self.assemble();

@@ -1,5 +1,6 @@
 //! Assembler diagnostics, shared by every dialect.
 
+use std::cell::Cell;
 use std::fmt;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -44,7 +45,33 @@ impl fmt::Display for Diagnostic {
             Severity::Error => "error",
             Severity::Warning => "warning",
         };
-        write!(f, "{}:{}: {}: {}", self.line, self.col, level, self.message)
+        write!(
+            f,
+            "{}:{}: {}: {}",
+            self.line,
+            self.col,
+            level,
+            printable(&self.message)
+        )
+    }
+}
+
+/// `text` with control characters escaped (`\u{1b}`), so a crafted file cannot send
+/// terminal escape sequences through a message that quotes it.
+pub fn printable(text: &str) -> std::borrow::Cow<'_, str> {
+    if text.chars().any(char::is_control) {
+        text.chars()
+            .map(|c| {
+                if c.is_control() {
+                    c.escape_default().to_string()
+                } else {
+                    c.to_string()
+                }
+            })
+            .collect::<String>()
+            .into()
+    } else {
+        text.into()
     }
 }
 
@@ -60,6 +87,42 @@ impl fmt::Display for WithFile<'_> {
 }
 
 /// The closest candidate to `word` (case-insensitive), if it is close enough to be a likely typo.
+/// "Did you mean" over names a program defines (labels, DEFs), with a bounded amount of work
+/// per file: every candidate compared spends one unit of the budget, and once it is spent
+/// suggestions stop. A file of 100,000 undefined names then fails in time linear in its size.
+pub struct Suggester {
+    budget: Cell<usize>,
+}
+
+/// Candidates compared per file at most (a few tens of milliseconds).
+pub const SUGGESTION_BUDGET: usize = 200_000;
+
+impl Default for Suggester {
+    fn default() -> Self {
+        Suggester {
+            budget: Cell::new(SUGGESTION_BUDGET),
+        }
+    }
+}
+
+impl Suggester {
+    pub fn suggest<'a>(
+        &self,
+        word: &str,
+        candidates: impl IntoIterator<Item = &'a str>,
+    ) -> Option<&'a str> {
+        let left = self.budget.get();
+        if left == 0 {
+            return None;
+        }
+        let mut spent = 0;
+        let counted = candidates.into_iter().take(left).inspect(|_| spent += 1);
+        let found = suggest(word, counted);
+        self.budget.set(left - spent);
+        found
+    }
+}
+
 /// Words longer than this get no suggestion: nobody mistypes a 65-character name by one
 /// letter, and the distance would cost time proportional to both lengths.
 const MAX_SUGGESTED_LEN: usize = 64;

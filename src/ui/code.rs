@@ -55,13 +55,21 @@ pub fn highlight(
     font: &FontId,
 ) -> LayoutJob {
     let mut job = LayoutJob::default();
+    // Diagnostics in line order, walked alongside the lines: linear however many there are.
+    let mut sorted: Vec<&Diagnostic> = diagnostics.iter().collect();
+    sorted.sort_by_key(|d| d.line);
+    let mut next = 0;
     for (index, line) in text.split_inclusive('\n').enumerate() {
         let number = index + 1;
         let body = line.strip_suffix('\n').unwrap_or(line);
         let body = body.strip_suffix('\r').unwrap_or(body);
         let kinds = classify(body);
         let mut error = vec![false; kinds.len()];
-        for d in diagnostics.iter().filter(|d| d.line == number) {
+        while sorted.get(next).is_some_and(|d| d.line < number) {
+            next += 1;
+        }
+        let on_line = sorted[next..].iter().take_while(|d| d.line == number);
+        for d in on_line {
             let start = (d.col - 1).min(error.len());
             let end = (start + d.len).min(error.len());
             error[start..end].fill(true);
@@ -336,12 +344,20 @@ fn problems(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView) {
                 ui.strong(format!("Problems ({})", debugger.diagnostics().len()));
                 ui.label(egui::RichText::new("Nothing runs until these are fixed.").color(p.dim));
             });
+            let diagnostics = debugger.diagnostics();
+            let row_height = ui.spacing().interact_size.y;
+            // Only the visible rows are laid out: a file with 100,000 errors stays responsive.
             egui::ScrollArea::vertical()
                 .id_salt("problems_scroll")
                 .auto_shrink([false, false])
-                .show(ui, |ui| {
-                    for d in debugger.diagnostics() {
-                        let text = format!("{}:{}  {}", d.line, d.col, d.message);
+                .show_rows(ui, row_height, diagnostics.len(), |ui, rows| {
+                    for d in &diagnostics[rows] {
+                        let text = format!(
+                            "{}:{}  {}",
+                            d.line,
+                            d.col,
+                            crate::machine::diagnostics::printable(&d.message)
+                        );
                         let r = ui.add(
                             egui::Button::selectable(
                                 false,

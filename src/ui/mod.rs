@@ -322,8 +322,7 @@ impl ServoscopeApp {
             Some(d) => d,
             None => registry::choose(path, None).map_err(|e| e.to_string())?,
         };
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| format!("Cannot open {}: {e}", path.display()))?;
+        let text = crate::text::read(path).map_err(|e| format!("Cannot open the program: {e}"))?;
         let name = path.file_name().map_or_else(
             || path.display().to_string(),
             |n| n.to_string_lossy().into_owned(),

@@ -16,7 +16,7 @@
 use std::collections::HashMap;
 
 use super::program::{ClcOp, Cond, CondBit, ExtOp, Instr, MoveKind, Program};
-use crate::machine::diagnostics::{Diagnostic, suggest};
+use crate::machine::diagnostics::{Diagnostic, Suggester, suggest};
 
 pub use super::program::ALIASES;
 
@@ -182,6 +182,8 @@ struct Assembler {
     label_list: Vec<(String, u32)>,
     defs: HashMap<String, (DefValue, usize)>,
     register_names: Vec<(String, u8)>,
+    /// "Did you mean" among the program's own names, bounded per file.
+    suggester: Suggester,
     /// DEF names and the line that defines them, to explain "used before definition".
     all_defs: HashMap<String, usize>,
     used: Vec<u8>,
@@ -558,7 +560,9 @@ impl Assembler {
         } else if !is_ident(tok.text) {
             format!("'{}' is not a label name", tok.text)
         } else {
-            let hint = suggest(tok.text, self.labels.keys().map(String::as_str))
+            let hint = self
+                .suggester
+                .suggest(tok.text, self.labels.keys().map(String::as_str))
                 .map(|s| format!("; did you mean '{s}'?"))
                 .unwrap_or_default();
             format!("undefined label '{}'{hint}", tok.text)
@@ -620,7 +624,9 @@ impl Assembler {
             .keys()
             .map(String::as_str)
             .chain(ALIASES.iter().map(|a| a.name));
-        let hint = suggest(name, candidates)
+        let hint = self
+            .suggester
+            .suggest(name, candidates)
             .map(|s| format!("; did you mean '{s}'?"))
             .unwrap_or_default();
         Err(format!("unknown name '{name}'{hint}"))
