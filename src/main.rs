@@ -35,58 +35,46 @@ struct Cli {
 enum Command {
     /// Run a program headless and report its final state (exit 0 ended, 1 faulted,
     /// 2 bad file or arguments, 3 tick limit).
-    Run {
-        /// The program (dialect by extension, e.g. .qsl), or a saved session (.ron) to resume.
-        file: PathBuf,
-        /// The program's dialect when its extension does not say it.
-        #[arg(long, value_name = "NAME")]
-        dialect: Option<String>,
-        /// Stop before this tick (scans for a PLC); the dialect's default when not given.
-        #[arg(long)]
-        max_ticks: Option<u64>,
-        /// Toggle an input at the listed ticks, e.g. IO1=100,250 (inputs start low). Repeatable.
-        #[arg(long = "input", value_name = "NAME=T1,T2,...")]
-        inputs: Vec<String>,
-        /// Give a location an initial value before the first tick, e.g. R26=-5. Repeatable.
-        #[arg(long = "set", value_name = "NAME=VALUE")]
-        sets: Vec<String>,
-        /// Print exactly one JSON object on stdout.
-        #[arg(long)]
-        json: bool,
-        /// When the run stops, save a session that reproduces this exact state.
-        #[arg(long, value_name = "OUT.ron")]
-        save_session: Option<PathBuf>,
-    },
+    Run(RunArgs),
+}
+
+#[derive(clap::Args)]
+struct RunArgs {
+    /// The program (dialect by extension, e.g. .qsl), or a saved session (.ron) to resume.
+    file: PathBuf,
+    /// The program's dialect when its extension does not say it.
+    #[arg(long, value_name = "NAME")]
+    dialect: Option<String>,
+    /// Stop before this tick (scans for a PLC); the dialect's default when not given.
+    #[arg(long)]
+    max_ticks: Option<u64>,
+    /// Toggle an input at the listed ticks, e.g. IO1=100,250 (inputs start low). Repeatable.
+    #[arg(long = "input", value_name = "NAME=T1,T2,...")]
+    inputs: Vec<String>,
+    /// Give a location an initial value before the first tick, e.g. R26=-5. Repeatable.
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    sets: Vec<String>,
+    /// Print exactly one JSON object on stdout.
+    #[arg(long)]
+    json: bool,
+    /// When the run stops, save a session that reproduces this exact state.
+    #[arg(long, value_name = "OUT.ron")]
+    save_session: Option<PathBuf>,
+    /// Let --save-session replace a file that is not a session.
+    #[arg(long)]
+    force: bool,
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        Some(Command::Run {
-            file,
-            dialect,
-            max_ticks,
-            inputs,
-            sets,
-            json,
-            save_session,
-        }) => ExitCode::from(
-            match run(
-                &file,
-                dialect.as_deref(),
-                max_ticks,
-                &inputs,
-                &sets,
-                json,
-                save_session.as_deref(),
-            ) {
-                Ok(code) => code,
-                Err(message) => {
-                    say(&format!("servoscope: {message}"));
-                    2
-                }
-            },
-        ),
+        Some(Command::Run(args)) => ExitCode::from(match run(&args) {
+            Ok(code) => code,
+            Err(message) => {
+                say(&format!("servoscope: {message}"));
+                2
+            }
+        }),
         None => open_window(cli.file, cli.dialect, cli.frame_stats),
     }
 }
@@ -171,15 +159,18 @@ fn read_start(file: &Path, dialect: Option<&str>) -> Result<Start, String> {
     })
 }
 
-fn run(
-    file: &Path,
-    dialect: Option<&str>,
-    max_ticks: Option<u64>,
-    inputs: &[String],
-    sets: &[String],
-    json: bool,
-    save: Option<&Path>,
-) -> Result<u8, String> {
+fn run(args: &RunArgs) -> Result<u8, String> {
+    let RunArgs {
+        file,
+        dialect,
+        max_ticks,
+        inputs,
+        sets,
+        json,
+        save_session,
+        force,
+    } = args;
+    let (dialect, max_ticks, json) = (dialect.as_deref(), *max_ticks, *json);
     let start = read_start(file, dialect)?;
     let name = file.display().to_string();
     if start.session.is_some() && !(inputs.is_empty() && sets.is_empty()) {
@@ -228,7 +219,7 @@ fn run(
         dialect: start.dialect,
         machine: done.machine(),
     };
-    if let Some(out) = save {
+    if let Some(out) = save_session {
         let session = Session::of_run(Recorded {
             dialect: start.dialect,
             program_name: &start.name,
@@ -238,7 +229,17 @@ fn run(
             machine: done.machine(),
             events: &events,
         });
-        session.save(out).map_err(|e| e.to_string())?;
+        let saved = if *force {
+            session.save_over(out)
+        } else {
+            session.save(out)
+        };
+        saved.map_err(|e| match e {
+            servoscope::session::SessionError::WouldReplace { .. } => {
+                format!("{e}; pass --force to replace it")
+            }
+            other => other.to_string(),
+        })?;
     }
     let text = if json {
         report.to_json() + "\n"

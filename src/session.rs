@@ -137,6 +137,8 @@ pub enum SessionError {
     TooLong { path: String, ticks: u64 },
     #[error("cannot encode the session: {0}")]
     Encode(String),
+    #[error("{path} exists and is not a session, so it was not replaced ({reason})")]
+    WouldReplace { path: String, reason: String },
 }
 
 /// The fields read before the rest, so a newer or foreign file is recognised as such.
@@ -264,6 +266,24 @@ impl From<v1::Session> for Session {
                 speed: old.view.speed,
             },
         }
+    }
+}
+
+/// Why the existing file at `path` is not a session, if there is one that is not. Missing and
+/// empty files, and sessions of any format, are fine to replace.
+fn not_a_session(path: &Path) -> Option<String> {
+    let path = crate::atomic::resolve(path).ok()?;
+    let meta = std::fs::metadata(&path).ok()?;
+    if meta.len() == 0 {
+        return None;
+    }
+    let text = match crate::text::read(&path) {
+        Ok(text) => text,
+        Err(e) => return Some(e.to_string()),
+    };
+    match Session::from_ron(&text, &path.display().to_string()) {
+        Ok(_) | Err(SessionError::Newer { .. } | SessionError::Program { .. }) => None,
+        Err(e) => Some(e.to_string()),
     }
 }
 
@@ -414,8 +434,21 @@ impl Session {
         Session::from_ron(&text, &name)
     }
 
-    /// Write atomically: the old file stays intact if anything fails.
+    /// Write atomically: the old file stays intact if anything fails. A file at `path` that is
+    /// not a session (a program, say) is not replaced: [`Session::save_over`] does that once
+    /// the user confirmed.
     pub fn save(&self, path: &Path) -> Result<(), SessionError> {
+        if let Some(reason) = not_a_session(path) {
+            return Err(SessionError::WouldReplace {
+                path: path.display().to_string(),
+                reason,
+            });
+        }
+        self.save_over(path)
+    }
+
+    /// Write atomically, replacing whatever regular file is at `path`.
+    pub fn save_over(&self, path: &Path) -> Result<(), SessionError> {
         let text = self.to_ron()?;
         crate::atomic::write_atomically(path, |w| w.write_all(text.as_bytes())).map_err(|source| {
             SessionError::Write {

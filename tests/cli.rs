@@ -399,3 +399,25 @@ fn a_file_of_errors_only_reports_a_bounded_list() {
     assert!(lines[101].contains("20000 error(s)"), "{}", lines[101]);
     assert!(lines[0].contains("undefined label 'b0'"), "{}", lines[0]);
 }
+
+#[test]
+fn saving_a_session_never_destroys_what_is_not_one() {
+    let f = program_file("WRP 11, 1\nEND\n");
+    let before = std::fs::read(f.path()).expect("the program");
+    // Onto the program itself: refused, the program intact.
+    let out = servoscope(&["run", f.path(), "--save-session", f.path(), "--json"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(out.stdout.is_empty());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--force"));
+    assert_eq!(std::fs::read(f.path()).expect("still there"), before);
+    // Onto a device: refused, and the device stays a device.
+    let out = servoscope(&["run", f.path(), "--save-session", "/dev/null"]);
+    assert_eq!(out.status.code(), Some(2));
+    let null = std::fs::metadata("/dev/null").expect("exists");
+    assert!(!null.file_type().is_file(), "/dev/null is still a device");
+    // With --force the user asked for it.
+    let out = servoscope(&["run", f.path(), "--save-session", f.path(), "--force"]);
+    assert_eq!(out.status.code(), Some(0));
+    let text = std::fs::read_to_string(f.path()).expect("replaced");
+    assert!(text.contains("format: 2"), "now a session");
+}

@@ -630,3 +630,32 @@ fn the_servo_model_is_settable_and_saved_with_the_session() {
         soft.reg(1)
     );
 }
+
+#[test]
+fn saving_over_a_file_that_is_not_a_session_asks_first() {
+    let dir = std::env::temp_dir().join(format!("servoscope-gui-replace-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let program = dir.join("prog.qsl");
+    std::fs::write(&program, "WRP 11, 1\nEND\n").unwrap();
+    let mut h = harness(app_with("WRP 20, 5\nEND"));
+    h.state_mut().save_session_to(program.clone());
+    h.run_steps(2);
+    h.get_by_label("Keep it").click();
+    h.run_steps(2);
+    assert!(h.state().confirm_replace.is_none());
+    assert_eq!(
+        std::fs::read_to_string(&program).unwrap(),
+        "WRP 11, 1\nEND\n"
+    );
+    h.state_mut().save_session_to(program.clone());
+    h.run_steps(2);
+    h.get_by_label("Replace it").click();
+    h.run_steps(2);
+    assert!(
+        std::fs::read_to_string(&program)
+            .unwrap()
+            .contains("format: 2")
+    );
+    assert_eq!(h.state().session_path.as_deref(), Some(program.as_path()));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -170,7 +170,7 @@ fn a_failed_save_leaves_the_old_file() {
     old.save(&path).unwrap();
     let before = std::fs::read(&path).unwrap();
     // A directory where the temporary file goes makes the write fail half-way (even as root).
-    let blocker = path.with_file_name(format!(".keep.ron.{}.tmp", std::process::id()));
+    let blocker = path.with_file_name(".keep.ron.servoscope-tmp");
     std::fs::create_dir_all(&blocker).unwrap();
     let new = Session::capture(
         &Debugger::new("new", "WRP 11, 1\nEND"),

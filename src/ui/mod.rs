@@ -22,7 +22,7 @@ use serde::{Deserialize, Serialize};
 use crate::debugger::{ChannelChoice, Debugger, Speed};
 use crate::machine::registry::{self, Dialect, Settings};
 use crate::machine::{Format, Loc};
-use crate::session::{Session, ViewSettings, is_session_path};
+use crate::session::{Session, SessionError, ViewSettings, is_session_path};
 pub use frames::{FrameStats, MAX_RUN_SLICE, MIN_RUN_SLICE, TARGET_FRAME, run_slice};
 use panels::DialectPanel;
 
@@ -55,6 +55,8 @@ pub enum Command {
     SaveSession,
     SaveSessionDialog,
     SaveSessionTo(PathBuf),
+    /// Save over a file that is not a session, after the user confirmed.
+    SaveSessionOver(PathBuf),
     /// Go on with the action waiting behind "unsaved changes".
     DiscardAndContinue,
     CancelPending,
@@ -129,6 +131,8 @@ pub struct ServoscopeApp {
     pub new_input: String,
     /// An action waiting for "discard unsaved changes?".
     pub pending: Option<Pending>,
+    /// A save waiting for "replace this file that is not a session?".
+    pub confirm_replace: Option<(PathBuf, String)>,
     allow_close: bool,
     /// A message for the user that is not a program diagnostic (a file that could not be read).
     pub notice: Option<String>,
@@ -169,6 +173,7 @@ impl ServoscopeApp {
             extra_inputs: Vec::new(),
             new_input: String::new(),
             pending: None,
+            confirm_replace: None,
             allow_close: false,
             notice: None,
             frame_stats: None,
@@ -346,9 +351,24 @@ impl ServoscopeApp {
         Ok(())
     }
 
-    /// Save the session to `path` (atomically). Errors leave the old file and are reported.
+    /// Save the session to `path` (atomically). Errors leave the old file and are reported; a
+    /// file that is not a session is replaced only after the user confirms.
     pub fn save_session_to(&mut self, path: PathBuf) {
-        match self.session().save(&path) {
+        self.save_session(path, false);
+    }
+
+    fn save_session(&mut self, path: PathBuf, replace: bool) {
+        let session = self.session();
+        let saved = if replace {
+            session.save_over(&path)
+        } else {
+            session.save(&path)
+        };
+        if let Err(SessionError::WouldReplace { reason, .. }) = &saved {
+            self.confirm_replace = Some((path, reason.clone()));
+            return;
+        }
+        match saved {
             Ok(()) => {
                 self.session_path = Some(path.clone());
                 self.remember(&path);
@@ -446,6 +466,10 @@ impl ServoscopeApp {
             },
             Command::SaveSessionDialog => self.files.save.start(ctx),
             Command::SaveSessionTo(path) => self.save_session_to(path),
+            Command::SaveSessionOver(path) => {
+                self.confirm_replace = None;
+                self.save_session(path, true);
+            }
             Command::ExportDialog => self.files.export.start(ctx),
             Command::ExportCsv(path) => match self.debugger.export_trace_csv(&path) {
                 Ok(rows) => {
@@ -603,6 +627,15 @@ impl ServoscopeApp {
         if self.pending.is_some() {
             unsaved_prompt(&ctx, self.pending.as_ref(), &mut commands);
         }
+        if let Some((path, reason)) = &self.confirm_replace
+            && let Some(answer) = replace_prompt(&ctx, path, reason)
+        {
+            if answer {
+                commands.push(Command::SaveSessionOver(path.clone()));
+            } else {
+                self.confirm_replace = None;
+            }
+        }
 
         for c in commands {
             self.apply(&ctx, c);
@@ -619,6 +652,30 @@ impl ServoscopeApp {
             ctx.request_repaint();
         }
     }
+}
+
+/// "Replace a file that is not a session?": true to replace, false to cancel, None meanwhile.
+fn replace_prompt(ctx: &egui::Context, path: &Path, reason: &str) -> Option<bool> {
+    let mut answer = None;
+    egui::Window::new("Replace file?")
+        .collapsible(false)
+        .resizable(false)
+        .anchor(egui::Align2::CENTER_CENTER, [0.0, 0.0])
+        .show(ctx, |ui| {
+            ui.label(format!(
+                "{} exists and is not a servoscope session ({reason}). Saving replaces it.",
+                path.display()
+            ));
+            ui.horizontal(|ui| {
+                if ui.button("Replace it").clicked() {
+                    answer = Some(true);
+                }
+                if ui.button("Keep it").clicked() {
+                    answer = Some(false);
+                }
+            });
+        });
+    answer
 }
 
 /// "Unsaved changes": save the session first, discard the changes, or cancel.
