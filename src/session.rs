@@ -137,6 +137,8 @@ pub enum SessionError {
     TooLong { path: String, ticks: u64 },
     #[error("cannot encode the session: {0}")]
     Encode(String),
+    #[error("opening {path} was cancelled")]
+    Cancelled { path: String },
     #[error("{path} exists and is not a session, so it was not replaced ({reason})")]
     WouldReplace { path: String, reason: String },
 }
@@ -490,6 +492,16 @@ impl Session {
 
     /// Rebuild the debugger: replay to the furthest position, then go back to the saved one.
     pub fn restore(&self, path: &str) -> Result<Debugger, SessionError> {
+        self.restore_with(path, &mut |_| true)
+    }
+
+    /// [`Session::restore`], reporting the tick reached while it replays; `go_on` returning
+    /// false cancels (the window's Cancel button) with [`SessionError::Cancelled`].
+    pub fn restore_with(
+        &self,
+        path: &str,
+        go_on: &mut dyn FnMut(u64) -> bool,
+    ) -> Result<Debugger, SessionError> {
         let furthest = self.furthest.max(self.at);
         if furthest.tick > MAX_REPLAY_TICKS {
             return Err(SessionError::TooLong {
@@ -514,9 +526,14 @@ impl Session {
             self.breakpoints.iter().copied(),
             self.channels.clone(),
             events,
-            furthest,
+            Pos::default(),
         )
         .map_err(program_error)?;
+        if !debugger.replay_to(furthest, go_on) {
+            return Err(SessionError::Cancelled {
+                path: path.to_string(),
+            });
+        }
         debugger.restore_marks(self.marks.iter().map(|m| {
             let kind = if m.fault {
                 MarkKind::Fault

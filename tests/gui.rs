@@ -659,3 +659,66 @@ fn saving_over_a_file_that_is_not_a_session_asks_first() {
     assert_eq!(h.state().session_path.as_deref(), Some(program.as_path()));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A session far into an endless program: its replay takes a while.
+fn long_session(dir: &std::path::Path, ticks: u64) -> std::path::PathBuf {
+    let path = dir.join(format!("long-{ticks}.ron"));
+    let text = format!(
+        "(format: 2, dialect: \"silverlode\", program: \"loop: CLC INC, 11\\nJMP loop\", at: (tick: {ticks}))"
+    );
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn a_long_replay_runs_in_the_background_and_can_be_cancelled() {
+    let dir = std::env::temp_dir().join(format!("servoscope-gui-long-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = harness(app_with("WRP 20, 5\nEND"));
+    h.state_mut().open_path(long_session(&dir, 400_000_000));
+    h.run_steps(3);
+    assert!(h.state().loading.is_some(), "replaying in the background");
+    h.get_by_label("Opening session");
+    // Frames keep coming while it replays.
+    let started = std::time::Instant::now();
+    for _ in 0..20 {
+        h.step();
+    }
+    assert!(
+        h.state().loading.is_some(),
+        "still replaying after 20 frames"
+    );
+    assert!(
+        started.elapsed() < std::time::Duration::from_secs(20),
+        "frames did not block"
+    );
+    h.get_by_label("Cancel").click();
+    for _ in 0..500 {
+        h.step();
+        if h.state().loading.is_none() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    assert!(h.state().loading.is_none(), "cancelled");
+    assert_eq!(
+        h.state().debugger.name(),
+        "test.qsl",
+        "the current session stays"
+    );
+    h.get_by_label_contains("cancelled");
+
+    // One that finishes: the state arrives when the replay is done.
+    h.state_mut().open_path(long_session(&dir, 3_000_000));
+    for _ in 0..3000 {
+        h.step();
+        if h.state().loading.is_none() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    assert!(h.state().loading.is_none(), "finished");
+    assert_eq!(h.state().debugger.pos().tick, 3_000_000);
+    assert_eq!(sl(h.state()).reg(11), 1_500_000, "one INC every two ticks");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -21,7 +21,7 @@ pub use lines::remap_lines;
 pub use run::{Event, Goal, Speed};
 
 use crate::machine::registry::{self, Dialect, Settings};
-use crate::machine::{Diagnostic, Loc, MachineView, Pos, SpaceKind, value};
+use crate::machine::{Diagnostic, Loc, MachineView, Pos, SpaceKind, StopReason, value};
 use history::{Change, Mark, MarkKind, UserEvent};
 use trace::{Channel, MAX_CHANNELS, Trace};
 
@@ -29,6 +29,8 @@ use trace::{Channel, MAX_CHANNELS, Trace};
 pub(crate) const CHUNK_TICKS: u64 = 20_000;
 /// Ticks a single step may take before it continues over later frames (a long DLY or move).
 pub(crate) const STEP_TICKS_AT_ONCE: u64 = 200_000;
+/// Ticks replayed between two progress reports when a session loads.
+pub const REPLAY_SLICE: u64 = 1 << 20;
 
 pub struct Debugger {
     dialect: &'static Dialect,
@@ -158,10 +160,29 @@ impl Debugger {
         }
         let channels = d.resolve_channels(engine.machine());
         d.engine = engine.restarted(events, channels);
-        d.engine.forward(furthest, &StopWhen::default());
         d.set_breakpoints(breakpoints);
         d.event = None;
+        d.replay_to(furthest, &mut |_| true);
         Ok(d)
+    }
+
+    /// Run the recorded timeline forward to `furthest`, in slices of [`REPLAY_SLICE`] ticks,
+    /// asking `go_on` with the tick reached between slices. Returns false when `go_on` said
+    /// stop (the debugger is then part-way and should be dropped).
+    pub fn replay_to(&mut self, furthest: Pos, go_on: &mut dyn FnMut(u64) -> bool) -> bool {
+        loop {
+            let now = self.pos();
+            let next = Pos::at_tick(now.tick.saturating_add(REPLAY_SLICE)).min(furthest);
+            if now >= furthest
+                || !self.machine().run_state().is_live()
+                || self.engine.forward(next, &StopWhen::default()) != StopReason::TickLimit
+            {
+                return true;
+            }
+            if !go_on(self.pos().tick) {
+                return false;
+            }
+        }
     }
 
     // ---- reading ---------------------------------------------------------------------------

@@ -6,6 +6,7 @@ pub mod code;
 pub mod controls;
 pub mod files;
 pub mod frames;
+pub mod loading;
 pub mod panels;
 pub mod plot;
 pub mod registers;
@@ -131,6 +132,8 @@ pub struct ServoscopeApp {
     pub new_input: String,
     /// An action waiting for "discard unsaved changes?".
     pub pending: Option<Pending>,
+    /// A session opening in the background.
+    pub loading: Option<loading::Loading>,
     /// A save waiting for "replace this file that is not a session?".
     pub confirm_replace: Option<(PathBuf, String)>,
     allow_close: bool,
@@ -174,6 +177,7 @@ impl ServoscopeApp {
             new_input: String::new(),
             pending: None,
             confirm_replace: None,
+            loading: None,
             allow_close: false,
             notice: None,
             frame_stats: None,
@@ -287,17 +291,48 @@ impl ServoscopeApp {
         let result = if is_session_path(&path) {
             self.open_session(&path)
         } else {
-            self.open_program(&path, dialect)
+            self.open_program(&path, dialect).map(|()| true)
         };
         match result {
-            Ok(()) => {
-                self.remember(&path);
-                self.files.open.close();
-                self.mark_saved();
+            Ok(true) => self.opened(&path),
+            // Replaying in the background: `poll_loading` finishes the job.
+            Ok(false) => {}
+            Err(message) => self.open_failed(message),
+        }
+    }
+
+    fn opened(&mut self, path: &Path) {
+        self.remember(path);
+        self.files.open.close();
+        self.mark_saved();
+    }
+
+    fn open_failed(&mut self, message: String) {
+        self.files.open.error = Some(message.clone());
+        self.notice = Some(message);
+    }
+
+    /// Finish (or give up) a background open.
+    fn poll_loading(&mut self, ctx: &egui::Context) {
+        let Some(job) = &self.loading else {
+            return;
+        };
+        match job.poll() {
+            loading::Outcome::Running => {
+                if loading::window(ctx, job) {
+                    job.cancel();
+                }
+                ctx.request_repaint();
             }
-            Err(message) => {
-                self.files.open.error = Some(message.clone());
-                self.notice = Some(message);
+            loading::Outcome::Done(session, debugger) => {
+                let path = job.path.clone();
+                self.loading = None;
+                self.install_session(&path, &session, *debugger);
+                self.opened(&path);
+            }
+            loading::Outcome::Failed(message) => {
+                self.loading = None;
+                self.open_failed(format!("{message}; the current session stays"));
             }
         }
     }
@@ -339,16 +374,26 @@ impl ServoscopeApp {
         Ok(())
     }
 
-    fn open_session(&mut self, path: &Path) -> Result<(), String> {
+    /// Open a session: at once when its replay is short (true), else in the background
+    /// (false), with a progress window and Cancel.
+    fn open_session(&mut self, path: &Path) -> Result<bool, String> {
         let name = path.display().to_string();
         let session = Session::load(path).map_err(|e| e.to_string())?;
+        if session.furthest.max(session.at).tick > loading::REPLAY_AT_ONCE {
+            self.loading = Some(loading::Loading::start(path.to_path_buf(), session));
+            return Ok(false);
+        }
         let debugger = session.restore(&name).map_err(|e| e.to_string())?;
+        self.install_session(path, &session, debugger);
+        Ok(true)
+    }
+
+    fn install_session(&mut self, path: &Path, session: &Session, debugger: Debugger) {
         self.debugger = debugger;
         self.path = session.program_path.clone();
         self.session_path = Some(path.to_path_buf());
         self.fresh_views();
         self.apply_view_settings(&session.view);
-        Ok(())
     }
 
     /// Save the session to `path` (atomically). Errors leave the old file and are reported; a
@@ -526,10 +571,14 @@ impl ServoscopeApp {
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
         }
 
+        self.poll_loading(&ctx);
         let mut commands = Vec::new();
         controls::shortcuts(&ctx, &self.debugger, &self.code, &mut commands);
         files::dropped_files(&ctx, &mut commands);
         self.files.poll(&mut commands);
+        if self.loading.is_some() {
+            commands.clear();
+        }
         for c in commands.drain(..) {
             self.apply(&ctx, c);
         }
@@ -637,6 +686,10 @@ impl ServoscopeApp {
             }
         }
 
+        if self.loading.is_some() {
+            // The session being opened replaces this one: nothing more happens to it meanwhile.
+            commands.clear();
+        }
         for c in commands {
             self.apply(&ctx, c);
         }
