@@ -337,13 +337,32 @@ impl Session {
 
     /// The debugging moment as a session.
     pub fn capture(debugger: &Debugger, program_path: Option<PathBuf>, view: ViewSettings) -> Self {
+        Session::capture_parts(debugger, program_path, view, debugger.source())
+    }
+
+    /// The moment without the program text, for a cheap comparison every frame (the text is
+    /// compared on its own, without copying it).
+    pub fn capture_without_program(
+        debugger: &Debugger,
+        program_path: Option<PathBuf>,
+        view: ViewSettings,
+    ) -> Self {
+        Session::capture_parts(debugger, program_path, view, "")
+    }
+
+    fn capture_parts(
+        debugger: &Debugger,
+        program_path: Option<PathBuf>,
+        view: ViewSettings,
+        program: &str,
+    ) -> Self {
         let defaults = ChannelChoice::defaults(debugger.dialect());
         let channels = debugger.channel_choices();
         let run = Session::of_run(Recorded {
             dialect: debugger.dialect(),
             program_name: debugger.name(),
             program_path,
-            program: debugger.source(),
+            program,
             settings: debugger.settings(),
             machine: debugger.machine(),
             events: debugger.events(),

@@ -722,3 +722,74 @@ fn a_long_replay_runs_in_the_background_and_can_be_cancelled() {
     assert_eq!(sl(h.state()).reg(11), 1_500_000, "one INC every two ticks");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `WRP 20, n ; line n` on line n: a program whose text says where each line is.
+fn numbered_program(lines: usize) -> String {
+    (1..=lines)
+        .map(|i| format!("WRP 20, {i} ; line {i}\n"))
+        .collect()
+}
+
+#[test]
+fn a_long_program_shows_only_its_visible_rows_and_they_line_up() {
+    let mut h = harness(app_with(&numbered_program(100_000)));
+    h.run_steps(2);
+    assert!(
+        h.query_by_role(egui::Role::MultilineTextInput).is_none(),
+        "the row view, not the editor"
+    );
+    h.get_by_label("Line 1: WRP 20, 1 ; line 1");
+    h.get_by_label("Breakpoint line 1");
+    assert!(
+        h.query_by_label("Breakpoint line 50000").is_none(),
+        "not laid out"
+    );
+    h.get_by_label("100000 lines");
+    // Deep into the program: the row about to run is in view, its gutter beside its text.
+    for (tick, line) in [(250u64, 251usize), (60_000, 60_001), (99_998, 99_999)] {
+        h.state_mut().debugger.goto_tick(tick);
+        // Beyond the recorded history the run gets there over a few frames.
+        for _ in 0..100 {
+            h.step();
+            if h.state().debugger.machine().pc_line() == Some(line) {
+                break;
+            }
+        }
+        assert_eq!(h.state().debugger.machine().pc_line(), Some(line));
+        h.run_steps(2);
+        let (text_label, gutter_label) = (
+            format!("Line {line}: WRP 20, {line} ; line {line}"),
+            format!("Breakpoint line {line}"),
+        );
+        let text = h.get_by_label(&text_label);
+        let gutter = h.get_by_label(&gutter_label);
+        let (t, g) = (text.rect(), gutter.rect());
+        assert!(
+            (t.center().y - g.center().y).abs() < 1.0,
+            "same row at line {line}"
+        );
+        gutter.click();
+        h.run_steps(2);
+        assert!(
+            h.state().debugger.breakpoints().contains(&line),
+            "the gutter beside line {line} sets line {line}: {:?}",
+            h.state().debugger.breakpoints()
+        );
+    }
+}
+
+#[test]
+fn a_long_program_is_edited_in_place_on_request() {
+    let lines = servoscope::ui::code::EDIT_IN_PLACE_LINES + 1;
+    let mut h = harness(app_with(&numbered_program(lines)));
+    assert!(h.query_by_role(egui::Role::MultilineTextInput).is_none());
+    h.get_by_label("Edit text").click();
+    h.run_steps(2);
+    assert!(h.query_by_role(egui::Role::MultilineTextInput).is_some());
+    h.get_by_label("Done editing").click();
+    h.run_steps(2);
+    assert!(h.query_by_role(egui::Role::MultilineTextInput).is_none());
+    // A program at the limit is edited in place from the start.
+    let h = harness(app_with(&numbered_program(lines - 1)));
+    assert!(h.query_by_role(egui::Role::MultilineTextInput).is_some());
+}

@@ -407,7 +407,9 @@ impl Debugger {
                 self.event = Some(Event::Assembled);
                 true
             }
-            Err(diagnostics) => {
+            Err(mut diagnostics) => {
+                // Views find a line's diagnostics by binary search.
+                diagnostics.sort_by_key(|d| (d.line, d.col));
                 self.event = Some(Event::NotAssembled(diagnostics.len()));
                 self.diagnostics = diagnostics;
                 false

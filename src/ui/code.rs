@@ -12,14 +12,26 @@ use crate::machine::registry::TokenClass;
 
 pub const TEXT_ID: &str = "program_text";
 
+/// Programs longer than this open in the row view (only visible lines laid out); shorter ones
+/// in the text editor, where they are edited in place.
+pub const EDIT_IN_PLACE_LINES: usize = 5_000;
+
 #[derive(Default)]
 pub struct CodeView {
     /// Line of the text cursor (for F9 and Run to cursor), 1-based.
     pub cursor_line: Option<usize>,
     /// The pc line the view last scrolled to.
-    last_pc_line: Option<usize>,
+    pub(super) last_pc_line: Option<usize>,
     /// A line to move the cursor to and show (clicked in the problems list).
     pub pending_jump: Option<usize>,
+    /// The program's lines, for the row view.
+    pub lines: super::code_rows::LineIndex,
+    /// A line the row view scrolls to on the next frame.
+    pub scroll_to: Option<usize>,
+    /// A long program is being edited in the text editor instead of the row view.
+    pub edit_long: bool,
+    /// The row view's visible height, from the last frame.
+    pub viewport_height: f32,
 }
 
 impl CodeView {
@@ -61,49 +73,64 @@ pub fn highlight(
     let mut next = 0;
     for (index, line) in text.split_inclusive('\n').enumerate() {
         let number = index + 1;
-        let body = line.strip_suffix('\n').unwrap_or(line);
-        let body = body.strip_suffix('\r').unwrap_or(body);
-        let kinds = classify(body);
-        let mut error = vec![false; kinds.len()];
         while sorted.get(next).is_some_and(|d| d.line < number) {
             next += 1;
         }
-        let on_line = sorted[next..].iter().take_while(|d| d.line == number);
-        for d in on_line {
-            let start = (d.col - 1).min(error.len());
-            let end = (start + d.len).min(error.len());
-            error[start..end].fill(true);
-        }
-        let chars: Vec<(usize, char)> = line.char_indices().collect();
-        let mut start = 0;
-        while start < chars.len() {
-            let style = |i: usize| (kinds.get(i).copied(), error.get(i).copied());
-            let mut end = start + 1;
-            while end < chars.len() && style(end) == style(start) {
-                end += 1;
-            }
-            let from = chars[start].0;
-            let to = chars.get(end).map_or(line.len(), |&(b, _)| b);
-            let (kind, is_error) = style(start);
-            job.append(
-                &line[from..to],
-                0.0,
-                TextFormat {
-                    font_id: font.clone(),
-                    color: color(p, kind.unwrap_or(TokenClass::Plain)),
-                    underline: if is_error == Some(true) {
-                        Stroke::new(2.0, p.error)
-                    } else {
-                        Stroke::NONE
-                    },
-                    ..Default::default()
-                },
-            );
-            start = end;
-        }
+        let on_line = sorted[next..]
+            .iter()
+            .take_while(|d| d.line == number)
+            .copied();
+        append_line(&mut job, line, classify, on_line, p, font);
     }
     job.wrap.max_width = f32::INFINITY;
     job
+}
+
+/// One line (with its line ending, if any) coloured by class, its errors underlined.
+pub fn append_line<'a>(
+    job: &mut LayoutJob,
+    line: &str,
+    classify: fn(&str) -> Vec<TokenClass>,
+    errors: impl Iterator<Item = &'a Diagnostic>,
+    p: &Palette,
+    font: &FontId,
+) {
+    let body = line.strip_suffix('\n').unwrap_or(line);
+    let body = body.strip_suffix('\r').unwrap_or(body);
+    let kinds = classify(body);
+    let mut error = vec![false; kinds.len()];
+    for d in errors {
+        let start = (d.col - 1).min(error.len());
+        let end = (start + d.len).min(error.len());
+        error[start..end].fill(true);
+    }
+    let chars: Vec<(usize, char)> = line.char_indices().collect();
+    let mut start = 0;
+    while start < chars.len() {
+        let style = |i: usize| (kinds.get(i).copied(), error.get(i).copied());
+        let mut end = start + 1;
+        while end < chars.len() && style(end) == style(start) {
+            end += 1;
+        }
+        let from = chars[start].0;
+        let to = chars.get(end).map_or(line.len(), |&(b, _)| b);
+        let (kind, is_error) = style(start);
+        job.append(
+            &line[from..to],
+            0.0,
+            TextFormat {
+                font_id: font.clone(),
+                color: color(p, kind.unwrap_or(TokenClass::Plain)),
+                underline: if is_error == Some(true) {
+                    Stroke::new(2.0, p.error)
+                } else {
+                    Stroke::NONE
+                },
+                ..Default::default()
+            },
+        );
+        start = end;
+    }
 }
 
 fn line_of_char(text: &str, char_index: usize) -> usize {
@@ -131,10 +158,15 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
     if !debugger.diagnostics().is_empty() {
         problems(ui, debugger, view);
     }
+    view.lines.update(debugger.source());
+    let long = view.lines.text_lines() > EDIT_IN_PLACE_LINES;
     let header = ui
         .horizontal(|ui| {
             let label = ui.strong("Program");
             ui.label(RichText::new(debugger.name()).monospace());
+            if long {
+                super::code_rows::edit_switch(ui, view, view.lines.text_lines());
+            }
             if debugger.is_edited() {
                 ui.label(
                     RichText::new("edited: Ctrl+Enter assembles (or just step / run)")
@@ -144,6 +176,14 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
             label.id
         })
         .inner;
+    if long && !view.edit_long {
+        if let Some(line) = view.pending_jump.take() {
+            view.cursor_line = Some(line);
+            view.scroll_to = Some(line);
+        }
+        super::code_rows::show(ui, debugger, view, out);
+        return;
+    }
     let font = TextStyle::Monospace.resolve(ui.style());
     let row_height = ui.fonts_mut(|f| f.row_height(&font));
     let char_width = ui.fonts_mut(|f| f.glyph_width(&font, '0'));

@@ -3,6 +3,7 @@
 //! No run logic lives here: it is all in `debugger` and `machine`.
 
 pub mod code;
+pub mod code_rows;
 pub mod controls;
 pub mod files;
 pub mod frames;
@@ -117,6 +118,7 @@ pub struct ServoscopeApp {
     pub session_path: Option<PathBuf>,
     /// The session as last saved or loaded: differences are unsaved changes.
     saved: Session,
+    saved_program: String,
     pub prefs: Prefs,
     pub code: code::CodeView,
     pub registers: registers::RegisterView,
@@ -164,6 +166,7 @@ impl ServoscopeApp {
             path: None,
             session_path: None,
             saved: Session::default(),
+            saved_program: String::new(),
             prefs,
             code: code::CodeView::default(),
             registers,
@@ -247,12 +250,24 @@ impl ServoscopeApp {
     }
 
     fn mark_saved(&mut self) {
-        self.saved = self.session();
+        self.saved = Session::capture_without_program(
+            &self.debugger,
+            self.path.clone(),
+            self.view_settings(),
+        );
+        self.saved_program = self.debugger.source().to_string();
     }
 
     /// Changes since the session was last saved or loaded (edits, breakpoints, the tick, ...).
+    /// Asked every frame (the title's ●): compares without copying the program text.
     pub fn is_dirty(&self) -> bool {
-        self.debugger.is_edited() || self.session() != self.saved
+        self.debugger.is_edited()
+            || self.debugger.source() != self.saved_program
+            || Session::capture_without_program(
+                &self.debugger,
+                self.path.clone(),
+                self.view_settings(),
+            ) != self.saved
     }
 
     pub fn window_title(&self) -> String {
