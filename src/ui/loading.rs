@@ -84,31 +84,27 @@ impl Loading {
 /// The progress window; true when the user pressed Cancel.
 pub fn window(ctx: &egui::Context, loading: &Loading) -> bool {
     let mut cancel = false;
-    egui::Window::new("Opening session")
-        .collapsible(false)
-        .resizable(false)
-        .anchor(egui::Align2::CENTER_CENTER, [0.0, 0.0])
-        .show(ctx, |ui| {
-            ui.label(format!(
-                "Replaying {} to tick {} …",
-                loading.path.display(),
-                loading.total
-            ));
-            let done = loading.reached() as f32 / loading.total.max(1) as f32;
-            ui.add(
-                egui::ProgressBar::new(done.clamp(0.0, 1.0))
-                    .show_percentage()
-                    .desired_width(320.0),
-            );
-            let label = if loading.is_cancelled() {
-                "Cancelling…"
-            } else {
-                "Cancel"
-            };
-            cancel = ui
-                .add_enabled(!loading.is_cancelled(), egui::Button::new(label))
-                .on_hover_text("Stop opening; the current session stays")
-                .clicked();
-        });
+    super::dialog("Opening session").show(ctx, |ui| {
+        ui.label(format!(
+            "Replaying {} to tick {} …",
+            loading.path.display(),
+            loading.total
+        ));
+        let done = loading.reached() as f32 / loading.total.max(1) as f32;
+        ui.add(
+            egui::ProgressBar::new(done.clamp(0.0, 1.0))
+                .show_percentage()
+                .desired_width(320.0),
+        );
+        let label = if loading.is_cancelled() {
+            "Cancelling…"
+        } else {
+            "Cancel"
+        };
+        cancel = ui
+            .add_enabled(!loading.is_cancelled(), egui::Button::new(label))
+            .on_hover_text("Stop opening; the current session stays")
+            .clicked();
+    });
     cancel
 }

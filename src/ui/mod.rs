@@ -722,27 +722,31 @@ impl ServoscopeApp {
     }
 }
 
-/// "Replace a file that is not a session?": true to replace, false to cancel, None meanwhile.
-fn replace_prompt(ctx: &egui::Context, path: &Path, reason: &str) -> Option<bool> {
-    let mut answer = None;
-    egui::Window::new("Replace file?")
+/// A small dialog in the middle of the window.
+pub fn dialog(title: &str) -> egui::Window<'static> {
+    egui::Window::new(title)
         .collapsible(false)
         .resizable(false)
         .anchor(egui::Align2::CENTER_CENTER, [0.0, 0.0])
-        .show(ctx, |ui| {
-            ui.label(format!(
-                "{} exists and is not a servoscope session ({reason}). Saving replaces it.",
-                path.display()
-            ));
-            ui.horizontal(|ui| {
-                if ui.button("Replace it").clicked() {
-                    answer = Some(true);
-                }
-                if ui.button("Keep it").clicked() {
-                    answer = Some(false);
-                }
-            });
+}
+
+/// "Replace a file that is not a session?": true to replace, false to cancel, None meanwhile.
+fn replace_prompt(ctx: &egui::Context, path: &Path, reason: &str) -> Option<bool> {
+    let mut answer = None;
+    dialog("Replace file?").show(ctx, |ui| {
+        ui.label(format!(
+            "{} exists and is not a servoscope session ({reason}). Saving replaces it.",
+            path.display()
+        ));
+        ui.horizontal(|ui| {
+            if ui.button("Replace it").clicked() {
+                answer = Some(true);
+            }
+            if ui.button("Keep it").clicked() {
+                answer = Some(false);
+            }
         });
+    });
     answer
 }
 
@@ -754,26 +758,22 @@ fn unsaved_prompt(ctx: &egui::Context, pending: Option<&Pending>, out: &mut Vec<
         Some(Pending::New(_)) => "starting a new program".to_string(),
         Some(Pending::Quit) | None => "closing servoscope".to_string(),
     };
-    egui::Window::new("Unsaved changes")
-        .collapsible(false)
-        .resizable(false)
-        .anchor(egui::Align2::CENTER_CENTER, [0.0, 0.0])
-        .show(ctx, |ui| {
-            ui.label(format!(
-                "This debugging session has changes that are not saved. They are lost by {what}."
-            ));
-            ui.horizontal(|ui| {
-                if ui.button("Save session").clicked() {
-                    out.push(Command::SaveSession);
-                }
-                if ui.button("Discard changes").clicked() {
-                    out.push(Command::DiscardAndContinue);
-                }
-                if ui.button("Cancel").clicked() {
-                    out.push(Command::CancelPending);
-                }
-            });
+    dialog("Unsaved changes").show(ctx, |ui| {
+        ui.label(format!(
+            "This debugging session has changes that are not saved. They are lost by {what}."
+        ));
+        ui.horizontal(|ui| {
+            if ui.button("Save session").clicked() {
+                out.push(Command::SaveSession);
+            }
+            if ui.button("Discard changes").clicked() {
+                out.push(Command::DiscardAndContinue);
+            }
+            if ui.button("Cancel").clicked() {
+                out.push(Command::CancelPending);
+            }
         });
+    });
 }
 
 impl eframe::App for ServoscopeApp {
