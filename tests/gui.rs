@@ -746,7 +746,12 @@ fn a_long_program_shows_only_its_visible_rows_and_they_line_up() {
     );
     h.get_by_label("100000 lines");
     // Deep into the program: the row about to run is in view, its gutter beside its text.
-    for (tick, line) in [(250u64, 251usize), (60_000, 60_001), (99_998, 99_999)] {
+    for (tick, line) in [
+        (0u64, 1usize),
+        (250, 251),
+        (60_000, 60_001),
+        (99_998, 99_999),
+    ] {
         h.state_mut().debugger.goto_tick(tick);
         // Beyond the recorded history the run gets there over a few frames.
         for _ in 0..100 {
@@ -792,4 +797,47 @@ fn a_long_program_is_edited_in_place_on_request() {
     // A program at the limit is edited in place from the start.
     let h = harness(app_with(&numbered_program(lines - 1)));
     assert!(h.query_by_role(egui::Role::MultilineTextInput).is_some());
+}
+
+/// Issue #9, defect 1: the gutter drifted from the text in long programs. Each gutter row must
+/// sit beside its text line (the editor's text rows divide its height evenly), scrolled to the
+/// top, the middle and the end, and a click there must set that line's breakpoint.
+#[test]
+fn gutter_rows_stay_beside_their_text_lines() {
+    for lines in [10usize, 300, 1000] {
+        let mut h = harness(app_with(&numbered_program(lines)));
+        for line in [1, lines / 2, lines - 1] {
+            h.state_mut().debugger.goto_tick(line as u64 - 1);
+            for _ in 0..50 {
+                h.step();
+                if h.state().debugger.machine().pc_line() == Some(line) {
+                    break;
+                }
+            }
+            h.run_steps(3);
+            assert_eq!(h.state().debugger.machine().pc_line(), Some(line));
+            let text = h.get_by_role(egui::Role::MultilineTextInput).rect();
+            // Where egui puts line `line` of this text in this font: its own layout.
+            let source = h.state().debugger.source().to_string();
+            let font = egui::TextStyle::Monospace.resolve(&h.ctx.global_style());
+            let galley = h
+                .ctx
+                .fonts_mut(|f| f.layout_no_wrap(source, font, egui::Color32::WHITE));
+            let row = galley.rows[line - 1].rect();
+            let want = text.top() + row.center().y;
+            let label = format!("Breakpoint line {line}");
+            let gutter = h.get_by_label(&label);
+            assert!(
+                (gutter.rect().center().y - want).abs() < row.height() / 2.0,
+                "{lines} lines, line {line}: gutter at {}, text row at {want}",
+                gutter.rect().center().y
+            );
+            gutter.click();
+            h.run_steps(2);
+            assert!(
+                h.state().debugger.breakpoints().contains(&line),
+                "{lines} lines: the gutter beside line {line} sets line {line}"
+            );
+        }
+    }
 }

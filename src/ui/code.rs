@@ -221,26 +221,9 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                     Sense::hover(),
                 );
                 let text_left = gutter.right() + 4.0;
-                let top = gutter.top();
-                let row_rect = |line: usize| {
-                    Rect::from_min_size(
-                        pos2(text_left, top + (line - 1) as f32 * row_height),
-                        vec2(ui.clip_rect().right() - text_left + 2000.0, row_height),
-                    )
-                };
-                for (line, fill) in [(pc_line, p.current_line), (fault_line, p.fault_line)] {
-                    if let Some(line) = line {
-                        ui.painter().rect_filled(row_rect(line), 0.0, fill);
-                    }
-                }
-                let scroll_to = jump.or_else(|| pc_moved(view, pc_line));
-                if let Some(line) = scroll_to {
-                    // Two lines of margin, so the line never hides under a scroll bar.
-                    let rect = row_rect(line)
-                        .with_max_x(text_left + 200.0)
-                        .expand2(vec2(0.0, 2.0 * row_height));
-                    ui.scroll_to_rect(rect, None);
-                }
+                // Line backgrounds go under the text, but where the lines are is known only once
+                // the text is laid out: keep their place in the paint order now, fill it after.
+                let backgrounds = ui.painter().add(egui::Shape::Noop);
 
                 let diagnostics = debugger.diagnostics();
                 let classify = debugger.dialect().classify;
@@ -259,14 +242,37 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                     .layouter(&mut layouter)
                     .show(ui);
                 egui::Response::clone(&output.response).labelled_by(header);
+                // Every row's place comes from the laid-out text itself (rows are placed on
+                // whole pixels, so a computed `line × height` drifts in long programs).
+                let rows = LineRows::of(&output.galley, output.galley_pos, text_left);
+                let fills: Vec<egui::Shape> =
+                    [(pc_line, p.current_line), (fault_line, p.fault_line)]
+                        .into_iter()
+                        .filter_map(|(line, fill)| {
+                            let rect = rows
+                                .rect(line?)?
+                                .with_max_x(ui.clip_rect().right() + 2000.0);
+                            Some(egui::Shape::rect_filled(rect, 0.0, fill))
+                        })
+                        .collect();
+                ui.painter().set(backgrounds, egui::Shape::Vec(fills));
+                let scroll_to = jump.or_else(|| pc_moved(view, pc_line));
+                if let Some(rect) = scroll_to.and_then(|line| rows.rect(line)) {
+                    // Two lines of margin, so the line never hides under a scroll bar.
+                    let rect = rect
+                        .with_max_x(text_left + 200.0)
+                        .expand2(vec2(0.0, 2.0 * row_height));
+                    ui.scroll_to_rect(rect, None);
+                }
                 if output.response.changed() {
                     out.push(Command::EditSource(text.clone()));
                 }
                 if let Some(range) = output.cursor_range {
                     view.cursor_line = Some(line_of_char(&text, range.primary.index.0));
                 }
-                if let Some(pos) = output.response.hover_pos() {
-                    let line = ((pos.y - top) / row_height) as usize + 1;
+                if let Some(pos) = output.response.hover_pos()
+                    && let Some(line) = rows.line_at(pos.y)
+                {
                     let messages: Vec<String> = diagnostics
                         .iter()
                         .filter(|d| d.line == line)
@@ -277,9 +283,7 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                             .on_hover_text_at_pointer(messages.join("\n"));
                     }
                 }
-                gutter_ui(
-                    ui, debugger, gutter, row_height, line_count, pc_line, &p, &font, out,
-                );
+                gutter_ui(ui, debugger, gutter, &rows, pc_line, &p, &font, out);
             });
         });
 }
@@ -293,27 +297,71 @@ fn pc_moved(view: &mut CodeView, pc_line: Option<usize>) -> Option<usize> {
     None
 }
 
+/// Where each line of the laid-out program text is (one row per line: the text never wraps).
+struct LineRows {
+    /// Top and bottom of each line, in screen coordinates; line n is index n − 1.
+    spans: Vec<(f32, f32)>,
+    left: f32,
+}
+
+impl LineRows {
+    fn of(galley: &egui::Galley, origin: egui::Pos2, left: f32) -> Self {
+        let spans = galley
+            .rows
+            .iter()
+            .map(|row| {
+                let rect = row.rect().translate(origin.to_vec2());
+                (rect.top(), rect.bottom())
+            })
+            .collect();
+        LineRows { spans, left }
+    }
+
+    /// The row of `line` (1-based), from the text's left edge.
+    fn rect(&self, line: usize) -> Option<Rect> {
+        let &(top, bottom) = self.spans.get(line.checked_sub(1)?)?;
+        Some(Rect::from_min_max(
+            pos2(self.left, top),
+            pos2(self.left + 1.0, bottom),
+        ))
+    }
+
+    /// The line at height `y`.
+    fn line_at(&self, y: f32) -> Option<usize> {
+        let i = self.spans.partition_point(|&(_, bottom)| bottom <= y);
+        (i < self.spans.len() && self.spans[i].0 <= y).then_some(i + 1)
+    }
+
+    /// The lines whose rows meet the band `top..bottom`.
+    fn visible(&self, top: f32, bottom: f32) -> std::ops::Range<usize> {
+        let first = self.spans.partition_point(|&(_, b)| b <= top);
+        let last = self.spans.partition_point(|&(t, _)| t < bottom);
+        first + 1..last + 1
+    }
+}
+
 #[allow(clippy::too_many_arguments)]
 fn gutter_ui(
     ui: &mut egui::Ui,
     debugger: &Debugger,
     gutter: Rect,
-    row_height: f32,
-    line_count: usize,
+    rows: &LineRows,
     pc_line: Option<usize>,
     p: &Palette,
     font: &FontId,
     out: &mut Vec<Command>,
 ) {
     let clip = ui.clip_rect();
-    let first = (((clip.top() - gutter.top()) / row_height).floor().max(0.0) as usize) + 1;
-    let last = ((((clip.bottom() - gutter.top()) / row_height).ceil()) as usize).min(line_count);
     let error_lines: Vec<usize> = debugger.diagnostics().iter().map(|d| d.line).collect();
-    for line in first..=last {
-        let row = Rect::from_min_size(
-            pos2(gutter.left(), gutter.top() + (line - 1) as f32 * row_height),
-            vec2(gutter.width(), row_height),
+    for line in rows.visible(clip.top(), clip.bottom()) {
+        let Some(text_row) = rows.rect(line) else {
+            continue;
+        };
+        let row = Rect::from_min_max(
+            pos2(gutter.left(), text_row.top()),
+            pos2(gutter.right(), text_row.bottom()),
         );
+        let row_height = row.height();
         let id = Id::unique(("gutter", line));
         let response = ui.interact(row, id, Sense::click());
         let label = format!("Breakpoint line {line}");
