@@ -841,3 +841,38 @@ fn gutter_rows_stay_beside_their_text_lines() {
         }
     }
 }
+
+/// The window over a dialect that is not SilverLode: a scanned machine with 16-bit words, an
+/// input, flag relays and its own words for time ("scan", "instruction").
+#[test]
+fn the_window_shows_a_scanned_machine_in_its_own_words() {
+    use common::scanned::{IN, PROGRAM, SCANNED};
+    use servoscope::machine::Loc;
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.load_program_as(&SCANNED, "p.scan", PROGRAM);
+    let mut h = harness(app);
+    h.get_by_label("Scan");
+    h.get_by_label("Scan back");
+    h.get_by_label("X0");
+    h.get_by_label("ZERO");
+    h.get_by_label("FIRST");
+    for _ in 0..3 {
+        h.key_press(Key::F10);
+        h.run_steps(1);
+    }
+    h.run_steps(1);
+    h.get_by_label_contains("scan 0, instruction 3");
+    // Inputs switch, relays the machine drives refuse with a notice.
+    h.get_by_label("X0").click();
+    h.run_steps(2);
+    assert_eq!(h.state().debugger.machine().read(Loc::new(IN, 0)), 1);
+    h.get_by_label("FIRST").click();
+    h.run_steps(2);
+    h.get_by_label_contains("cannot be written");
+    // A 16-bit word: its bit grid has bits 15..0 and no more.
+    h.get_by_label("V0").click();
+    h.run_steps(2);
+    h.get_by_label("V0 bit 15");
+    assert!(h.query_by_label("V0 bit 16").is_none());
+    h.get_by_label("Value of V0");
+}

@@ -1,6 +1,8 @@
 #![allow(dead_code)]
 //! Helpers shared by the integration tests.
 
+pub mod scanned;
+
 use servoscope::machine::silverlode::SilverLode;
 use servoscope::machine::{Machine, MachineView, RunState};
 
