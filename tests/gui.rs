@@ -876,3 +876,31 @@ fn the_window_shows_a_scanned_machine_in_its_own_words() {
     assert!(h.query_by_label("V0 bit 16").is_none());
     h.get_by_label("Value of V0");
 }
+
+/// Issue #9, defect 5: after a step back the value field showed the old value, and Set then
+/// wrote it back and discarded the recorded future.
+#[test]
+fn the_value_field_follows_the_location_unless_typed_in() {
+    let mut h = harness(app_with("WRP 20, 5\nWRP 20, 7\nEND"));
+    h.state_mut().debugger.step_command();
+    h.state_mut().debugger.step_command();
+    h.run_steps(1);
+    h.get_by_label("R20").click();
+    h.run_steps(2);
+    let shown = |h: &Harness<'static, ServoscopeApp>| {
+        h.get_by_label("Value of R20").value().unwrap_or_default()
+    };
+    assert_eq!(shown(&h), "7");
+    h.key_press_modifiers(Modifiers::SHIFT, Key::F10);
+    h.run_steps(2);
+    assert_eq!(sl(h.state()).reg(20), 5);
+    assert_eq!(shown(&h), "5", "the field shows the value at this step");
+    let furthest = h.state().debugger.furthest_tick();
+    h.get_by_label("Set").click();
+    h.run_steps(2);
+    assert_eq!(
+        h.state().debugger.furthest_tick(),
+        furthest,
+        "Set with the current value keeps the recorded future"
+    );
+}

@@ -452,6 +452,15 @@ impl Debugger {
         if self.has_errors() {
             return Err(EditError::NotAssembled);
         }
+        let now = self.machine().read(loc);
+        let unchanged = match change {
+            Change::Set(v) => v == now && self.machine().info(loc).is_some(),
+            Change::Bit { bit, on } => bit < 64 && (now >> bit & 1 == 1) == on,
+        };
+        if unchanged {
+            // Writing what is already there changes nothing: no event, the future stays.
+            return Ok(());
+        }
         let at = self.pos();
         if self.engine.edit(loc, change)? {
             self.event = Some(Event::FutureDiscarded(at.tick));

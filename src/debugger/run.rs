@@ -339,12 +339,13 @@ impl Debugger {
             self.event = Some(Event::ReachedTick(self.pos().tick));
         } else if self.machine().run_state().is_live() || self.pos() < self.furthest() {
             self.engine.goto(self.furthest());
-            if pos.step == 0 {
-                self.goal = Some(Goal::ToTick(pos.tick));
-            } else {
-                // Inside a tick beyond the history: short, so at once.
+            if pos.step > 0 && pos.tick <= self.furthest().tick.saturating_add(1) {
+                // Inside the scan at the edge of the history: a few instructions, at once.
                 self.engine.forward(pos, &StopWhen::default());
                 self.event = Some(Event::ReachedTick(self.pos().tick));
+            } else {
+                // Further on, the run goes there over the next frames (to the tick's start).
+                self.goal = Some(Goal::ToTick(pos.tick));
             }
         }
     }

@@ -21,6 +21,9 @@ pub struct RegisterView {
     pub selected: Option<Loc>,
     pub edit_text: String,
     pub edit_error: Option<String>,
+    /// The value `edit_text` was last filled from: when the location changes (a step, a step
+    /// back, a click on the plot) the field follows, unless the user is typing in it.
+    edit_shown: Option<u64>,
 }
 
 impl RegisterView {
@@ -32,6 +35,7 @@ impl RegisterView {
             selected: None,
             edit_text: String::new(),
             edit_error: None,
+            edit_shown: None,
         }
     }
 
@@ -49,6 +53,7 @@ impl RegisterView {
             self.selected = Some(loc);
             self.edit_text = signed_text(m, loc);
             self.edit_error = None;
+            self.edit_shown = Some(m.read(loc));
         }
     }
 }
@@ -221,9 +226,13 @@ fn bit_grid(
     };
     let raw = m.read(loc);
     let width = info.width;
-    if view.edit_text.is_empty() && view.edit_error.is_none() {
-        // Selected from a session or a fresh view: start the field at the current value.
+    let field = egui::Id::unique("location_value_field");
+    let typing = ui.memory(|m| m.has_focus(field));
+    if !typing && view.edit_error.is_none() && view.edit_shown != Some(raw) {
+        // The value changed under the field (or it was just selected): show the current one,
+        // so Set never writes a stale value back.
         view.edit_text = Format::Signed.show(raw, width);
+        view.edit_shown = Some(raw);
     }
     ui.horizontal(|ui| {
         ui.heading(&info.name);
@@ -281,7 +290,6 @@ fn bit_grid(
                 };
                 if resp.on_hover_text(tip).clicked() {
                     out.push(Command::ToggleBit(loc, bit as u8));
-                    view.edit_text = Format::Signed.show(raw ^ (1 << bit), width);
                     view.edit_error = None;
                 }
                 if bit % 4 == 0 && bit != low {
@@ -331,6 +339,7 @@ fn bit_grid(
         let edit = ui
             .add(
                 egui::TextEdit::singleline(&mut view.edit_text)
+                    .id(field)
                     .desired_width(150.0)
                     .hint_text("42, 0x2A, 0b101, bcd(12), q16(1.5)"),
             )
