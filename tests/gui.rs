@@ -904,3 +904,39 @@ fn the_value_field_follows_the_location_unless_typed_in() {
         "Set with the current value keeps the recorded future"
     );
 }
+
+/// Issue #9, defects 6 and 7: a program that does not assemble replaced the text but left the
+/// previous program's state, marked "edited" and ●; saving with edits not yet assembled left ●.
+#[test]
+fn opening_a_broken_program_clears_the_old_one_and_saving_clears_the_mark() {
+    let dir = std::env::temp_dir().join(format!("servoscope-gui-broken-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = harness(app_with("WRP 20, 5\nloop: CLC INC, 21\nJMP loop"));
+    h.state_mut().debugger.set_input(io(0), true).unwrap();
+    for _ in 0..5 {
+        h.state_mut().debugger.step_command();
+    }
+    h.run_steps(1);
+    let broken = dir.join("broken.qsl");
+    std::fs::write(&broken, "WRP 20, 5\nBOGUS 1\n").unwrap();
+    h.state_mut().open_path(broken);
+    h.run_steps(2);
+    let d = &h.state().debugger;
+    assert!(d.has_errors());
+    assert_eq!((d.pos().tick, d.furthest_tick()), (0, 0), "no old history");
+    assert_eq!(sl(h.state()).reg(20), 0, "no old registers");
+    assert_eq!(d.machine().read(io(0)), 0, "no old inputs");
+    assert!(!d.is_edited(), "nothing was edited");
+    assert!(!h.state().window_title().ends_with('●'));
+
+    // Edits not yet assembled, saved: the session holds them, so nothing is unsaved.
+    *h.state_mut().debugger.source_mut() = "WRP 20, 6\nEND\n".to_string();
+    h.run_steps(1);
+    assert!(h.state().window_title().ends_with('●'));
+    let session = dir.join("s.ron");
+    h.state_mut().save_session_to(session.clone());
+    h.run_steps(2);
+    assert!(h.state().debugger.is_edited(), "still not assembled");
+    assert!(!h.state().window_title().ends_with('●'), "but saved");
+    let _ = std::fs::remove_dir_all(&dir);
+}

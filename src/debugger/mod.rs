@@ -353,13 +353,17 @@ impl Debugger {
             self.dialect = dialect;
             self.settings = dialect.default_settings();
             self.channel_names = ChannelChoice::defaults(dialect);
-            self.engine = empty_engine(dialect, &self.settings);
         }
+        // Nothing of the previous program stays: not its state, its history, nor its inputs
+        // (a new program starts with every input low, as the runner does).
+        self.engine = empty_engine(dialect, &self.settings);
         self.name = name.into();
         self.source = crate::text::normalize(&source.into()).into_owned();
         self.assembled_source.clear();
         self.breakpoints.clear();
         self.assemble();
+        // The text is as loaded, not edited, even when it does not assemble.
+        self.assembled_source = self.source.clone();
     }
 
     /// Every input location and its level now.

@@ -261,8 +261,8 @@ impl ServoscopeApp {
     /// Changes since the session was last saved or loaded (edits, breakpoints, the tick, ...).
     /// Asked every frame (the title's ●): compares without copying the program text.
     pub fn is_dirty(&self) -> bool {
-        self.debugger.is_edited()
-            || self.debugger.source() != self.saved_program
+        // The session holds the text as typed, assembled or not: compare that.
+        self.debugger.source() != self.saved_program
             || Session::capture_without_program(
                 &self.debugger,
                 self.path.clone(),
