@@ -21,7 +21,7 @@ pub use lines::remap_lines;
 pub use run::{Event, Goal, Speed};
 
 use crate::machine::registry::{self, Dialect, Settings};
-use crate::machine::{Diagnostic, Loc, MachineView, Pos, SpaceKind, StopReason, value};
+use crate::machine::{Diagnostic, Loc, MachineView, Pos, StopReason, value};
 use history::{Change, Mark, MarkKind, UserEvent};
 use trace::{Channel, MAX_CHANNELS, Trace};
 
@@ -366,31 +366,11 @@ impl Debugger {
         self.assembled_source = self.source.clone();
     }
 
-    /// Every input location and its level now.
-    fn input_levels(m: &dyn MachineView) -> Vec<(Loc, u64)> {
-        m.spaces()
-            .iter()
-            .enumerate()
-            .filter(|(_, s)| s.kind == SpaceKind::Inputs)
-            .flat_map(|(i, s)| (0..s.len).map(move |index| Loc::new(i as u8, index)))
-            .map(|loc| (loc, m.read(loc)))
-            .filter(|&(_, v)| v != 0)
-            .collect()
-    }
-
-    /// A new timeline at the start of the current program, with the inputs at these levels.
-    fn restart_with_inputs(&mut self, inputs: Vec<(Loc, u64)>) {
-        let events = inputs
-            .into_iter()
-            .filter(|(loc, _)| self.engine.machine().info(*loc).is_some())
-            .map(|(loc, v)| UserEvent {
-                at: Pos::default(),
-                loc,
-                change: Change::Set(v),
-            })
-            .collect();
+    /// A new timeline at the start of the current program: every input low, as in the runner
+    /// (a run's input switches are part of its recorded timeline, not of the next run).
+    fn restart(&mut self) {
         let channels = self.resolve_channels(self.engine.machine());
-        self.engine = self.engine.restarted(events, channels);
+        self.engine = self.engine.restarted(Vec::new(), channels);
         self.goal = None;
     }
 
@@ -403,9 +383,8 @@ impl Debugger {
             Ok(engine) => {
                 let moved = remap_lines(&self.assembled_source, &self.source, &self.breakpoints);
                 self.breakpoints = moved;
-                let inputs = Self::input_levels(self.engine.machine());
                 self.engine = engine;
-                self.restart_with_inputs(inputs);
+                self.restart();
                 self.assembled_source = self.source.clone();
                 self.diagnostics.clear();
                 self.event = Some(Event::Assembled);
@@ -591,9 +570,17 @@ mod tests {
         assert_eq!(d.machine().ticks(), 0);
         assert_eq!(
             d.machine().read(io2),
-            1,
-            "inputs keep their levels across a reset"
+            0,
+            "a new run starts with its inputs low, as the runner's does"
         );
+        assert!(
+            d.events().is_empty(),
+            "nothing carried into the new timeline"
+        );
+        d.set_input(io2, true).expect("inputs can be switched");
+        *d.source_mut() = "WRP 11, 2\nEND\n".to_string();
+        d.assemble();
+        assert_eq!(d.machine().read(io2), 0, "nor into a re-assembled program");
     }
 
     #[test]

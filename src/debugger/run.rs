@@ -157,14 +157,13 @@ impl Debugger {
     }
 
     /// Back to the start of the program with a fresh timeline (Ctrl+Shift+F5), assembling edits
-    /// first. Inputs keep their levels: they are switches on the bench, not program state.
+    /// first. Inputs start low, as in every new run.
     pub fn reset(&mut self) {
         self.goal = None;
         if self.is_edited() || self.has_errors() {
             self.assemble();
         } else {
-            let inputs = Self::input_levels(self.machine());
-            self.restart_with_inputs(inputs);
+            self.restart();
         }
         self.event = Some(Event::Reset);
     }
