@@ -92,7 +92,7 @@ fn every_error_is_reported_with_line_and_column() {
     );
     assert!(e[0].message.contains("did you mean CLC"));
     assert!(e[1].message.contains("did you mean ADD"));
-    assert!(e[2].message.contains("R0 ..= R199"));
+    assert!(e[2].message.contains("R0–R199"));
     assert!(e[3].message.contains("32 bits"));
     assert!(e[4].message.contains("undefined label 'nowhere'"));
     assert!(e[5].message.contains("did you mean ZERO"));
@@ -128,7 +128,7 @@ fn registers_and_numbers_are_not_confused() {
     assert!(e[0].message.contains("CLX takes its data from a register"));
     assert!(e[1].message.contains("names register R30"));
     assert!(e[2].message.contains("not a register"));
-    assert!(e[3].message.contains("outside R0 ..= R199"));
+    assert!(e[3].message.contains("outside R0–R199"));
 }
 
 #[test]

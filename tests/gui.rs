@@ -940,3 +940,26 @@ fn opening_a_broken_program_clears_the_old_one_and_saving_clears_the_mark() {
     assert!(!h.state().window_title().ends_with('●'), "but saved");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue #9, smaller items: Escape closes the file dialogs; a session saved without an
+/// extension gets `.ron` and an absolute path.
+#[test]
+fn escape_closes_dialogs_and_sessions_get_their_extension() {
+    let mut h = harness(app_with("WRP 20, 5\nEND"));
+    h.state_mut().files.open.window_open = true;
+    h.run_steps(2);
+    h.get_by_label("Path");
+    h.key_press(Key::Escape);
+    h.run_steps(2);
+    assert!(!h.state().files.open.window_open, "Escape closed it");
+
+    let dir = std::env::temp_dir().join(format!("servoscope-gui-ext-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    h.state_mut().save_session_to(dir.join("lesson"));
+    h.run_steps(2);
+    let saved = dir.join("lesson.ron");
+    assert!(saved.exists(), "saved as lesson.ron");
+    assert_eq!(h.state().session_path.as_deref(), Some(saved.as_path()));
+    assert!(h.state().prefs.recent.iter().all(|p| p.is_absolute()));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -30,10 +30,12 @@ impl Speed {
     ];
 
     /// `10 commands/s`, in the dialect's word for a step.
-    pub fn label(self, steps: &str) -> String {
+    /// `1 command/s`, `10 commands/s`, `1k commands/s`: in the dialect's words for a step.
+    pub fn label(self, step: &str, steps: &str) -> String {
         match self {
             Speed::Unlimited => "unlimited".to_string(),
             Speed::PerSecond(n) if n >= 1000.0 => format!("{}k {steps}/s", n / 1000.0),
+            Speed::PerSecond(1.0) => format!("1 {step}/s"),
             Speed::PerSecond(n) => format!("{n} {steps}/s"),
         }
     }
@@ -400,5 +402,27 @@ impl Debugger {
             Some(_) => Event::Breakpoint(self.machine().pc_line().unwrap_or(0)),
             None => Event::NoEarlierBreakpoint,
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn speeds_read_in_the_dialects_words() {
+        assert_eq!(
+            Speed::PerSecond(1.0).label("command", "commands"),
+            "1 command/s"
+        );
+        assert_eq!(
+            Speed::PerSecond(10.0).label("command", "commands"),
+            "10 commands/s"
+        );
+        assert_eq!(
+            Speed::PerSecond(1000.0).label("scan", "scans"),
+            "1k scans/s"
+        );
+        assert_eq!(Speed::Unlimited.label("scan", "scans"), "unlimited");
     }
 }

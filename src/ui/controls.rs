@@ -274,11 +274,11 @@ pub fn toolbar(
         ui.separator();
         let speed = debugger.speed();
         let combo = egui::ComboBox::new("speed", "Speed")
-            .selected_text(speed.label(words.steps))
+            .selected_text(speed.label(words.step, words.steps))
             .show_ui(ui, |ui| {
                 for preset in Speed::PRESETS {
                     if ui
-                        .selectable_label(preset == speed, preset.label(words.steps))
+                        .selectable_label(preset == speed, preset.label(words.step, words.steps))
                         .clicked()
                     {
                         out.push(Command::SetSpeed(preset));

@@ -170,7 +170,8 @@ fn path_window(
         return;
     }
     let purpose = request.purpose;
-    let mut open = true;
+    // Escape closes the dialog, as every dialog does.
+    let mut open = !ctx.input(|i| i.key_pressed(egui::Key::Escape));
     egui::Window::new(purpose.title())
         .collapsible(false)
         .resizable(false)

@@ -418,6 +418,14 @@ impl ServoscopeApp {
     }
 
     fn save_session(&mut self, path: PathBuf, replace: bool) {
+        // A session saved as "lesson" is "lesson.ron", so it opens as a session later; Recent
+        // keeps where it really is, not a path relative to wherever servoscope started.
+        let path = if path.extension().is_none() {
+            path.with_extension("ron")
+        } else {
+            path
+        };
+        let path = std::path::absolute(&path).unwrap_or(path);
         let session = self.session();
         let saved = if replace {
             session.save_over(&path)

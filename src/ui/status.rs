@@ -26,7 +26,7 @@ pub fn status_bar(ui: &mut egui::Ui, debugger: &Debugger) {
     let p = palette(ui.visuals().dark_mode);
     let m = debugger.machine();
     let words = debugger.dialect().vocabulary;
-    let ms = m.ticks() as f64 * f64::from(m.tick_micros()) / 1000.0;
+    let time = time_text(m.ticks().saturating_mul(u64::from(m.tick_micros())));
     ui.horizontal(|ui| {
         let state = state_text(debugger);
         let colour = match m.run_state() {
@@ -52,7 +52,7 @@ pub fn status_bar(ui: &mut egui::Ui, debugger: &Debugger) {
             ));
         }
         ui.separator();
-        ui.monospace(format!("{ms:.3} ms"));
+        ui.monospace(time);
         ui.separator();
         ui.monospace(format!("{} {}", words.steps, m.steps()));
         if let Some(event) = debugger.event() {
@@ -115,4 +115,28 @@ pub fn notice_banner(ui: &mut egui::Ui, text: &str) -> bool {
             });
         });
     dismissed
+}
+
+/// Simulated time as people read it: `360.120 ms` under a minute, `2:21:12.000` beyond.
+pub fn time_text(micros: u64) -> String {
+    if micros < 60_000_000 {
+        return format!("{:.3} ms", micros as f64 / 1000.0);
+    }
+    let ms = micros / 1000;
+    let (h, m, s, rest) = (ms / 3_600_000, ms / 60_000 % 60, ms / 1000 % 60, ms % 1000);
+    format!("{h}:{m:02}:{s:02}.{rest:03}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn times_beyond_a_minute_read_as_clock_time() {
+        assert_eq!(time_text(360_120), "360.120 ms");
+        assert_eq!(time_text(59_999_999), "59999.999 ms");
+        assert_eq!(time_text(60_000_000), "0:01:00.000");
+        // 70,600,000 ticks of 120 µs: the 8472000.000 ms.
+        assert_eq!(time_text(70_600_000 * 120), "2:21:12.000");
+    }
 }

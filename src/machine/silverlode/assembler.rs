@@ -716,7 +716,7 @@ fn register_in_range(n: i64, text: &str) -> OpResult<u8> {
     if (0..REGISTER_COUNT as i64).contains(&n) {
         Ok(n as u8)
     } else {
-        Err(format!("register {text} is outside R0 ..= R199"))
+        Err(format!("register {text} is outside R0–R199"))
     }
 }
 

@@ -356,7 +356,7 @@ impl SilverLode {
                 return Err(Raise(
                     FaultKind::BadQueue,
                     format!(
-                        "a queue of {d} slots at R{base} does not fit: it needs size ≥ 1 and R{base} ..= R{} ≤ R199",
+                        "a queue of {d} slots at R{base} does not fit: it needs size ≥ 1 and R{base}–R{} within R0–R199",
                         i64::from(d) + base as i64 + 1
                     ),
                 ));

@@ -390,7 +390,7 @@ fn queue(op: ExtOp, res: u8, base: u8, d_name: &str, outcome: Outcome, vals: [i3
     let ok = outcome == Outcome::Done;
     match op {
         ExtOp::QInit => format!(
-            "init {q} with {d} slots (R{} ..= R{}): R{base} = size {d} | len 0, R{} = head 0 | tail 0; R{res} = {d}",
+            "init {q} with {d} slots (R{}–R{}): R{base} = size {d} | len 0, R{} = head 0 | tail 0; R{res} = {d}",
             base as usize + 2,
             base as usize + 1 + d as usize,
             base as usize + 1

@@ -99,7 +99,7 @@ fn queue(ui: &mut egui::Ui, q: &QueueView, access: Option<&QueueAccess>, p: &Pal
         ui.label(format!("{} / {} used{state}", h.len, h.size));
         ui.label(
             RichText::new(format!(
-                "slots R{} ..= R{}",
+                "slots R{}–R{}",
                 h.first_slot_register,
                 h.first_slot_register + h.size - 1
             ))
