@@ -601,6 +601,31 @@ mod tests {
     }
 
     #[test]
+    fn real_time_speed_advances_the_ticks_the_time_is_worth() {
+        // An endless wait: only time passes.
+        let mut d = Debugger::new("wait", "WBS IO1\nEND");
+        d.set_speed(Speed::RealTime(1.0));
+        d.run();
+        // 12 ms of real time at ×1 is 100 ticks of 120 µs.
+        assert!(d.advance(0.012, Duration::from_millis(50)));
+        assert_eq!(d.machine().ticks(), 100);
+        d.set_speed(Speed::RealTime(0.1));
+        d.advance(0.012, Duration::from_millis(50));
+        assert_eq!(d.machine().ticks(), 110, "×0.1: ten ticks");
+        // A switch flipped between frames lands on the tick on screen.
+        let io1 = d.find("IO1").expect("an input");
+        d.set_input(io1, true).expect("switched");
+        assert_eq!(d.events()[0].at.tick, 110);
+        d.advance(0.012, Duration::from_millis(50));
+        assert_eq!(d.event(), Some(&Event::Ended));
+        assert_eq!(
+            d.machine().ticks(),
+            112,
+            "WBS saw it in tick 111, END took 112"
+        );
+    }
+
+    #[test]
     fn a_long_step_continues_over_frames() {
         let mut d = Debugger::new("delay", "DLY 1000000\nEND");
         d.step_command();

@@ -12,12 +12,20 @@ use crate::machine::{Pos, RunState, StopReason};
 pub enum Speed {
     /// Commands per second (a step that waits, like DLY, counts as one command).
     PerSecond(f64),
+    /// Simulated time at this factor of real time (1.0: a tick of 120 µs takes 120 µs), tick
+    /// by tick, so an input switched by hand lands on the tick on screen.
+    RealTime(f64),
     /// As fast as the machine goes, in slices that leave every frame its time.
     Unlimited,
 }
 
 impl Speed {
-    pub const PRESETS: [Speed; 9] = [
+    pub const PRESETS: [Speed; 14] = [
+        Speed::RealTime(0.01),
+        Speed::RealTime(0.1),
+        Speed::RealTime(1.0),
+        Speed::RealTime(10.0),
+        Speed::RealTime(100.0),
         Speed::PerSecond(1.0),
         Speed::PerSecond(2.0),
         Speed::PerSecond(5.0),
@@ -29,11 +37,11 @@ impl Speed {
         Speed::Unlimited,
     ];
 
-    /// `10 commands/s`, in the dialect's word for a step.
     /// `1 command/s`, `10 commands/s`, `1k commands/s`: in the dialect's words for a step.
     pub fn label(self, step: &str, steps: &str) -> String {
         match self {
             Speed::Unlimited => "unlimited".to_string(),
+            Speed::RealTime(f) => format!("×{f} real time"),
             Speed::PerSecond(n) if n >= 1000.0 => format!("{}k {steps}/s", n / 1000.0),
             Speed::PerSecond(1.0) => format!("1 {step}/s"),
             Speed::PerSecond(n) => format!("{n} {steps}/s"),
@@ -173,6 +181,7 @@ impl Debugger {
     pub fn set_speed(&mut self, speed: Speed) {
         self.speed = match speed {
             Speed::PerSecond(n) if !(n.is_finite() && n > 0.0) => Speed::PerSecond(1.0),
+            Speed::RealTime(f) if !(f.is_finite() && f > 0.0) => Speed::RealTime(1.0),
             s => s,
         };
         self.credit = 0.0;
@@ -212,9 +221,14 @@ impl Debugger {
             self.after_stop(Event::Stepped);
             return false;
         }
+        if let (Goal::Continue | Goal::ToLine(_), Speed::RealTime(factor)) = (goal, self.speed) {
+            return self.advance_in_real_time(goal, factor, dt);
+        }
         let started = Instant::now();
         let mut commands = match (goal, self.speed) {
-            (Goal::FinishStep | Goal::ToTick(_), _) | (_, Speed::Unlimited) => u64::MAX,
+            (Goal::FinishStep | Goal::ToTick(_), _)
+            | (_, Speed::Unlimited)
+            | (_, Speed::RealTime(_)) => u64::MAX,
             (_, Speed::PerSecond(n)) => {
                 self.credit += n * dt.clamp(0.0, 0.25);
                 let whole = self.credit.floor();
@@ -289,17 +303,7 @@ impl Debugger {
                     return false;
                 }
                 StopReason::Predicate => {
-                    self.goal = None;
-                    let line = self.machine().pc_line().unwrap_or(0);
-                    self.event = Some(match goal {
-                        Goal::FinishStep => Event::Stepped,
-                        Goal::ToTick(t) => Event::ReachedTick(t),
-                        Goal::ToLine(l) if l == line => Event::ReachedLine(line),
-                        _ => {
-                            self.engine.mark(MarkKind::Breakpoint, line);
-                            Event::Breakpoint(line)
-                        }
-                    });
+                    self.reached(goal);
                     return false;
                 }
                 StopReason::TickLimit => {
@@ -310,6 +314,57 @@ impl Debugger {
             }
         }
         true
+    }
+
+    /// The run's goal came true (or a breakpoint): stop and say which.
+    fn reached(&mut self, goal: Goal) {
+        self.goal = None;
+        let line = self.machine().pc_line().unwrap_or(0);
+        self.event = Some(match goal {
+            Goal::FinishStep => Event::Stepped,
+            Goal::ToTick(t) => Event::ReachedTick(t),
+            Goal::ToLine(l) if l == line => Event::ReachedLine(line),
+            _ => {
+                self.engine.mark(MarkKind::Breakpoint, line);
+                Event::Breakpoint(line)
+            }
+        });
+    }
+
+    /// One frame at a factor of real time: exactly the ticks `dt` is worth (fractions carry
+    /// over), stopping at breakpoints.
+    fn advance_in_real_time(&mut self, goal: Goal, factor: f64, dt: f64) -> bool {
+        let micros = f64::from(self.machine().tick_micros().max(1));
+        let factor = if factor.is_finite() {
+            factor.max(0.0)
+        } else {
+            1.0
+        };
+        self.credit += factor * dt.clamp(0.0, 0.25) * 1e6 / micros;
+        let whole = self.credit.floor();
+        self.credit -= whole;
+        let target = Pos::at_tick(self.pos().tick.saturating_add(whole as u64));
+        let table = self.breakpoint_table();
+        let stop = StopWhen {
+            breakpoints: &table,
+            line: match goal {
+                Goal::ToLine(l) => Some(l),
+                _ => None,
+            },
+            skip_first: std::mem::take(&mut self.resume_past_breakpoint),
+            ..StopWhen::default()
+        };
+        match self.engine.forward(target, &stop) {
+            StopReason::Stopped => {
+                self.after_stop(Event::Stepped);
+                false
+            }
+            StopReason::Predicate => {
+                self.reached(goal);
+                false
+            }
+            StopReason::TickLimit => true,
+        }
     }
 
     fn breakpoint_table(&self) -> Vec<bool> {
@@ -424,5 +479,9 @@ mod tests {
             "1k scans/s"
         );
         assert_eq!(Speed::Unlimited.label("scan", "scans"), "unlimited");
+        assert_eq!(
+            Speed::RealTime(0.1).label("command", "commands"),
+            "×0.1 real time"
+        );
     }
 }

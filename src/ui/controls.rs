@@ -285,9 +285,10 @@ pub fn toolbar(
                     }
                 }
             });
-        combo
-            .response
-            .on_hover_text(format!("{} per second while running", words.steps));
+        combo.response.on_hover_text(format!(
+            "How fast Run goes: {} per second, or simulated time at a factor of real time",
+            words.steps
+        ));
         ui.separator();
         ui.label("Inputs:");
         for loc in shown_inputs(machine, extra_inputs) {
