@@ -963,3 +963,26 @@ fn escape_closes_dialogs_and_sessions_get_their_extension() {
     assert!(h.state().prefs.recent.iter().all(|p| p.is_absolute()));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue #9, gap 12: the lesson sessions are in the Examples menu beside the programs.
+#[test]
+fn lessons_open_from_the_examples_menu() {
+    let mut h = harness(ServoscopeApp::new(Prefs::default()));
+    let (index, _) = servoscope::machine::registry::lessons()
+        .enumerate()
+        .find(|(_, (_, name, _))| *name == "homing_on_input.ron")
+        .expect("the homing lesson is built in");
+    h.state_mut().apply(
+        &egui::Context::default(),
+        servoscope::ui::Command::LoadLesson(index),
+    );
+    h.run_steps(2);
+    assert_eq!(
+        h.state().debugger.machine().ticks(),
+        3001,
+        "at the lesson's moment"
+    );
+    assert!(h.state().debugger.breakpoints().contains(&13));
+    assert_eq!(h.state().session_path, None, "a save asks where");
+    assert!(!h.state().window_title().ends_with('●'));
+}

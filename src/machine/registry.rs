@@ -199,6 +199,13 @@ pub fn choose(path: &Path, name: Option<&str>) -> Result<&'static Dialect, Choos
     }
 }
 
+/// Every lesson session of every dialect, with its dialect.
+pub fn lessons() -> impl Iterator<Item = (&'static Dialect, &'static str, &'static str)> {
+    DIALECTS
+        .iter()
+        .flat_map(|d| d.lessons.iter().map(move |&(n, t)| (*d, n, t)))
+}
+
 /// Every example of every dialect, with its dialect.
 pub fn examples() -> impl Iterator<Item = (&'static Dialect, &'static str, &'static str)> {
     DIALECTS

@@ -113,6 +113,17 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
                         out.push(Command::LoadExample(i));
                     }
                 }
+                ui.separator();
+                ui.label("Lessons (sessions)");
+                for (i, (dialect, name, _)) in registry::lessons().enumerate() {
+                    if ui
+                        .button(name)
+                        .on_hover_text(format!("A saved {} session", dialect.display_name))
+                        .clicked()
+                    {
+                        out.push(Command::LoadLesson(i));
+                    }
+                }
             });
         });
         ui.menu_button("Debug", |ui| {

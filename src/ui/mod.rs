@@ -66,6 +66,8 @@ pub enum Command {
     ExportCsv(PathBuf),
     /// An example of any dialect, by its index in [`registry::examples`].
     LoadExample(usize),
+    /// A lesson session of any dialect, by its index in [`registry::lessons`].
+    LoadLesson(usize),
     /// File → New: an empty program in the dialect with this name.
     NewProgram(&'static str),
     SetDark(bool),
@@ -105,6 +107,7 @@ const MAX_RECENT: usize = 10;
 pub enum Pending {
     Open(PathBuf),
     Example(usize),
+    Lesson(usize),
     New(&'static str),
     Quit,
 }
@@ -403,6 +406,20 @@ impl ServoscopeApp {
         Ok(true)
     }
 
+    /// A built-in lesson session: opened like a session file, but with no file behind it (a
+    /// save asks where).
+    fn open_lesson(&mut self, name: &str, text: &str) {
+        let opened = Session::from_ron(text, name).and_then(|s| Ok((s.restore(name)?, s)));
+        match opened {
+            Ok((debugger, session)) => {
+                self.install_session(Path::new(name), &session, debugger);
+                self.session_path = None;
+                self.mark_saved();
+            }
+            Err(e) => self.notice = Some(e.to_string()),
+        }
+    }
+
     fn install_session(&mut self, path: &Path, session: &Session, debugger: Debugger) {
         self.debugger = debugger;
         self.path = session.program_path.clone();
@@ -470,6 +487,11 @@ impl ServoscopeApp {
             Pending::Example(i) => {
                 if let Some((dialect, name, text)) = registry::examples().nth(i) {
                     self.load_program_as(dialect, name, text);
+                }
+            }
+            Pending::Lesson(i) => {
+                if let Some((_, name, text)) = registry::lessons().nth(i) {
+                    self.open_lesson(name, text);
                 }
             }
             Pending::New(name) => {
@@ -551,6 +573,7 @@ impl ServoscopeApp {
                 }
             },
             Command::LoadExample(i) => self.guarded(Pending::Example(i)),
+            Command::LoadLesson(i) => self.guarded(Pending::Lesson(i)),
             Command::NewProgram(name) => self.guarded(Pending::New(name)),
             Command::DiscardAndContinue => {
                 if let Some(action) = self.pending.take() {
@@ -763,6 +786,7 @@ fn unsaved_prompt(ctx: &egui::Context, pending: Option<&Pending>, out: &mut Vec<
     let what = match pending {
         Some(Pending::Open(path)) => format!("opening {}", path.display()),
         Some(Pending::Example(_)) => "opening the example".to_string(),
+        Some(Pending::Lesson(_)) => "opening the lesson".to_string(),
         Some(Pending::New(_)) => "starting a new program".to_string(),
         Some(Pending::Quit) | None => "closing servoscope".to_string(),
     };
