@@ -986,3 +986,45 @@ fn lessons_open_from_the_examples_menu() {
     assert_eq!(h.state().session_path, None, "a save asks where");
     assert!(!h.state().window_title().ends_with('●'));
 }
+
+/// Issue #9, gap 10: programs are files: Save program (as), the title names the program and
+/// marks text not yet saved to it.
+#[test]
+fn programs_are_saved_as_files() {
+    let dir = std::env::temp_dir().join(format!("servoscope-gui-prog-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = harness(app_with("WRP 20, 5\nEND\n"));
+    assert!(!h.state().window_title().contains('*'));
+    *h.state_mut().debugger.source_mut() = "WRP 20, 6\nEND\n".to_string();
+    h.run_steps(1);
+    assert!(
+        h.state().window_title().contains("test.qsl*"),
+        "unsaved text marked"
+    );
+    h.state_mut().apply(
+        &egui::Context::default(),
+        servoscope::ui::Command::SaveProgramTo(dir.join("mine")),
+    );
+    h.run_steps(2);
+    let file = dir.join("mine.qsl");
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "WRP 20, 6\nEND\n");
+    assert_eq!(h.state().debugger.name(), "mine.qsl");
+    assert!(!h.state().window_title().contains('*'));
+    // Save program writes to the same file from now on.
+    *h.state_mut().debugger.source_mut() = "WRP 20, 7\nEND\n".to_string();
+    h.state_mut().apply(
+        &egui::Context::default(),
+        servoscope::ui::Command::SaveProgram,
+    );
+    h.run_steps(2);
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "WRP 20, 7\nEND\n");
+    // A program is never written as a session file.
+    h.state_mut().apply(
+        &egui::Context::default(),
+        servoscope::ui::Command::SaveProgramTo(dir.join("oops.ron")),
+    );
+    h.run_steps(2);
+    assert!(!dir.join("oops.ron").exists());
+    h.get_by_label_contains("would be read as a session");
+    let _ = std::fs::remove_dir_all(&dir);
+}

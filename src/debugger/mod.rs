@@ -190,6 +190,10 @@ impl Debugger {
     pub fn name(&self) -> &str {
         &self.name
     }
+    /// The program's name changes (saved under another file name); nothing else does.
+    pub fn rename(&mut self, name: impl Into<String>) {
+        self.name = name.into();
+    }
     pub fn source(&self) -> &str {
         &self.source
     }

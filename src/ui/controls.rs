@@ -93,6 +93,18 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
                     out.push(command);
                 }
             }
+            ui.separator();
+            if ui
+                .button("Save program")
+                .on_hover_text("Write the program text to its file")
+                .clicked()
+            {
+                out.push(Command::SaveProgram);
+            }
+            if ui.button("Save program as…").clicked() {
+                out.push(Command::SaveProgramDialog);
+            }
+            ui.separator();
             ui.menu_button("Open recent", |ui| {
                 if app.prefs.recent.is_empty() {
                     ui.label("No recent files");

@@ -14,6 +14,8 @@ pub enum Purpose {
     OpenProgram,
     SaveSession,
     ExportCsv,
+    /// The program's text, as a program file.
+    SaveProgram,
 }
 
 impl Purpose {
@@ -22,6 +24,7 @@ impl Purpose {
             Purpose::OpenProgram => "Open a program or session",
             Purpose::SaveSession => "Save the session",
             Purpose::ExportCsv => "Export the trace as CSV",
+            Purpose::SaveProgram => "Save the program",
         }
     }
     fn button(self) -> &'static str {
@@ -29,6 +32,7 @@ impl Purpose {
             Purpose::OpenProgram => "Open",
             Purpose::SaveSession => "Save",
             Purpose::ExportCsv => "Export",
+            Purpose::SaveProgram => "Save program",
         }
     }
     fn command(self, path: PathBuf) -> Command {
@@ -36,6 +40,7 @@ impl Purpose {
             Purpose::OpenProgram => Command::OpenPath(path),
             Purpose::SaveSession => Command::SaveSessionTo(path),
             Purpose::ExportCsv => Command::ExportCsv(path),
+            Purpose::SaveProgram => Command::SaveProgramTo(path),
         }
     }
 }
@@ -87,6 +92,9 @@ impl PathRequest {
                         .add_filter("CSV", &["csv"])
                         .set_file_name("trace.csv")
                         .save_file(),
+                    Purpose::SaveProgram => dialog
+                        .add_filter("Programs", &openable_extensions())
+                        .save_file(),
                 };
                 let _ = tx.send(picked);
                 ctx.request_repaint();
@@ -127,6 +135,7 @@ pub struct Files {
     pub open: PathRequest,
     pub save: PathRequest,
     pub export: PathRequest,
+    pub save_program: PathRequest,
 }
 
 impl Default for Files {
@@ -135,18 +144,27 @@ impl Default for Files {
             open: PathRequest::new(Purpose::OpenProgram),
             save: PathRequest::new(Purpose::SaveSession),
             export: PathRequest::new(Purpose::ExportCsv),
+            save_program: PathRequest::new(Purpose::SaveProgram),
         }
     }
 }
 
 impl Files {
     pub fn is_waiting(&self) -> bool {
-        self.open.is_waiting() || self.save.is_waiting() || self.export.is_waiting()
+        self.open.is_waiting()
+            || self.save.is_waiting()
+            || self.export.is_waiting()
+            || self.save_program.is_waiting()
     }
 
     /// Commands for paths the native dialogs returned.
     pub fn poll(&mut self, out: &mut Vec<Command>) {
-        for request in [&mut self.open, &mut self.save, &mut self.export] {
+        for request in [
+            &mut self.open,
+            &mut self.save,
+            &mut self.export,
+            &mut self.save_program,
+        ] {
             if let Some(path) = request.poll() {
                 out.push(request.purpose.command(path));
             }
@@ -157,6 +175,7 @@ impl Files {
         path_window(ctx, &mut self.open, &prefs.recent, out);
         path_window(ctx, &mut self.save, &[], out);
         path_window(ctx, &mut self.export, &[], out);
+        path_window(ctx, &mut self.save_program, &[], out);
     }
 }
 
@@ -198,6 +217,7 @@ fn path_window(
                     Purpose::OpenProgram => Command::OpenDialog,
                     Purpose::SaveSession => Command::SaveSessionDialog,
                     Purpose::ExportCsv => Command::ExportDialog,
+                    Purpose::SaveProgram => Command::SaveProgramDialog,
                 });
             }
             if let Some(error) = &request.error {

@@ -57,6 +57,10 @@ pub enum Command {
     SaveSession,
     SaveSessionDialog,
     SaveSessionTo(PathBuf),
+    /// Save the program text to its file, or ask where.
+    SaveProgram,
+    SaveProgramDialog,
+    SaveProgramTo(PathBuf),
     /// Save over a file that is not a session, after the user confirmed.
     SaveSessionOver(PathBuf),
     /// Go on with the action waiting behind "unsaved changes".
@@ -122,6 +126,8 @@ pub struct ServoscopeApp {
     /// The session as last saved or loaded: differences are unsaved changes.
     saved: Session,
     saved_program: String,
+    /// The text the program file holds (as loaded or last saved), when there is a file.
+    file_text: Option<String>,
     pub prefs: Prefs,
     pub code: code::CodeView,
     pub registers: registers::RegisterView,
@@ -170,6 +176,7 @@ impl ServoscopeApp {
             session_path: None,
             saved: Session::default(),
             saved_program: String::new(),
+            file_text: None,
             prefs,
             code: code::CodeView::default(),
             registers,
@@ -281,7 +288,11 @@ impl ServoscopeApp {
             .and_then(|p| p.file_name())
             .map(|n| format!(" [{}]", n.to_string_lossy()))
             .unwrap_or_default();
-        format!("servoscope — {}{session}{dirty}", self.debugger.name())
+        let star = if self.program_modified() { "*" } else { "" };
+        format!(
+            "servoscope — {}{star}{session}{dirty}",
+            self.debugger.name()
+        )
     }
 
     fn remember(&mut self, path: &Path) {
@@ -365,6 +376,7 @@ impl ServoscopeApp {
     /// Start over on a program given as text in `dialect`.
     pub fn load_program_as(&mut self, dialect: &'static Dialect, name: &str, text: &str) {
         self.debugger.load_as(dialect, name, text);
+        self.file_text = Some(self.debugger.source().to_string());
         self.path = None;
         self.session_path = None;
         self.fresh_views();
@@ -386,6 +398,7 @@ impl ServoscopeApp {
             |n| n.to_string_lossy().into_owned(),
         );
         self.debugger.load_as(dialect, name, text);
+        self.file_text = Some(self.debugger.source().to_string());
         self.path = Some(path.to_path_buf());
         self.session_path = None;
         self.fresh_views();
@@ -423,9 +436,56 @@ impl ServoscopeApp {
     fn install_session(&mut self, path: &Path, session: &Session, debugger: Debugger) {
         self.debugger = debugger;
         self.path = session.program_path.clone();
+        self.file_text = Some(self.debugger.source().to_string());
         self.session_path = Some(path.to_path_buf());
         self.fresh_views();
         self.apply_view_settings(&session.view);
+    }
+
+    /// Whether the program text differs from what was opened or last saved as a program.
+    pub fn program_modified(&self) -> bool {
+        self.file_text.as_deref() != Some(self.debugger.source())
+    }
+
+    /// Write the program text to `path` (atomically; the dialect's extension is added to a
+    /// name without one). The program then belongs to that file.
+    pub fn save_program_to(&mut self, path: PathBuf) {
+        let path = if path.extension().is_none() {
+            path.with_extension(self.debugger.dialect().extensions[0])
+        } else {
+            path
+        };
+        if is_session_path(&path) {
+            let message = format!(
+                "{} would be read as a session; give the program its dialect's extension (.{})",
+                path.display(),
+                self.debugger.dialect().extensions[0]
+            );
+            self.files.save_program.error = Some(message.clone());
+            self.notice = Some(message);
+            return;
+        }
+        let path = std::path::absolute(&path).unwrap_or(path);
+        let text = self.debugger.source().to_string();
+        match crate::atomic::write_atomically(&path, |w| w.write_all(text.as_bytes())) {
+            Ok(()) => {
+                let name = path.file_name().map_or_else(
+                    || path.display().to_string(),
+                    |n| n.to_string_lossy().into_owned(),
+                );
+                self.debugger.rename(name);
+                self.path = Some(path.clone());
+                self.file_text = Some(text);
+                self.remember(&path);
+                self.files.save_program.close();
+                self.notice = Some(format!("Program saved to {}", path.display()));
+            }
+            Err(e) => {
+                let message = format!("Cannot write {}: {e}", path.display());
+                self.files.save_program.error = Some(message.clone());
+                self.notice = Some(message);
+            }
+        }
     }
 
     /// Save the session to `path` (atomically). Errors leave the old file and are reported; a
@@ -556,6 +616,12 @@ impl ServoscopeApp {
             },
             Command::SaveSessionDialog => self.files.save.start(ctx),
             Command::SaveSessionTo(path) => self.save_session_to(path),
+            Command::SaveProgram => match self.path.clone() {
+                Some(path) => self.save_program_to(path),
+                None => self.files.save_program.start(ctx),
+            },
+            Command::SaveProgramDialog => self.files.save_program.start(ctx),
+            Command::SaveProgramTo(path) => self.save_program_to(path),
             Command::SaveSessionOver(path) => {
                 self.confirm_replace = None;
                 self.save_session(path, true);
