@@ -350,3 +350,12 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn a_register_past_r199_is_out_of_range_wherever_it_stands() {
+    let e = errors("WRP 20, R300\nCLD ADD, 20, 21, r250\nEND\n");
+    assert_eq!(e.len(), 2);
+    for d in &e {
+        assert!(d.message.contains("outside R0–R199"), "{}", d.message);
+    }
+}

@@ -619,6 +619,13 @@ impl Assembler {
         if let Some(&defined) = self.all_defs.get(name) {
             return Err(format!("'{name}' is used before its DEF on line {defined}"));
         }
+        if let Some(digits) = name.strip_prefix(['R', 'r'])
+            && !digits.is_empty()
+            && digits.chars().all(|c| c.is_ascii_digit())
+        {
+            // A register by its number, past the last one: say so, not "unknown name".
+            return Err(format!("register {name} is outside R0–R199"));
+        }
         let candidates = self
             .defs
             .keys()
