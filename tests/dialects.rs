@@ -46,6 +46,12 @@ fn every_dialect_describes_itself_fully() {
         assert_eq!(registry::by_name(d.name), Some(*d));
         assert!(!d.examples.is_empty(), "{} ships examples", d.name);
         let settings = d.default_settings();
+        // The debugger stands on an empty program before anything assembles.
+        assert!(
+            (d.open)("", &settings).is_ok(),
+            "{}: an empty program assembles",
+            d.name
+        );
         assert_eq!(settings.len(), d.settings.len(), "{}", d.name);
         let new = (d.open)(d.new_program, &settings);
         assert!(new.is_ok(), "{}: File → New's text assembles", d.name);

@@ -406,14 +406,23 @@ impl Debugger {
         }
     }
 
+    /// Where the run is, when it can go back from there (not at the start, not with edits
+    /// waiting to be assembled); stops a run in progress.
+    fn going_back(&mut self) -> Option<Pos> {
+        let now = self.pos();
+        if now == Pos::default() || self.is_edited() {
+            return None;
+        }
+        self.goal = None;
+        Some(now)
+    }
+
     /// Back to the start of the current tick, or of the previous one when already at a start
     /// (Shift+F11).
     pub fn step_back_tick(&mut self) {
-        let now = self.pos();
-        if now == Pos::default() || self.is_edited() {
+        let Some(now) = self.going_back() else {
             return;
-        }
-        self.goal = None;
+        };
         let to = if now.step > 0 {
             Pos::at_tick(now.tick)
         } else {
@@ -425,11 +434,9 @@ impl Debugger {
 
     /// Back to where the last instruction started (Shift+F10).
     pub fn step_back_command(&mut self) {
-        let now = self.pos();
-        if now == Pos::default() || self.is_edited() {
+        let Some(now) = self.going_back() else {
             return;
-        }
-        self.goal = None;
+        };
         let any = StopWhen {
             any: true,
             ..StopWhen::default()
@@ -441,11 +448,9 @@ impl Debugger {
 
     /// Back to the last time a breakpoint was about to run, or the start (Shift+F5).
     pub fn reverse_continue(&mut self) {
-        let now = self.pos();
-        if now == Pos::default() || self.is_edited() {
+        let Some(now) = self.going_back() else {
             return;
-        }
-        self.goal = None;
+        };
         let table = self.breakpoint_table();
         let at_breakpoint = StopWhen {
             breakpoints: &table,

@@ -259,8 +259,11 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                 let scroll_to = jump.or_else(|| pc_moved(view, pc_line));
                 if let Some(rect) = scroll_to.and_then(|line| rows.rect(line)) {
                     // Two lines of margin, so the line never hides under a scroll bar.
+                    // Only vertically: from the gutter's edge, so the line numbers stay in view
+                    // in a narrow window.
                     let rect = rect
-                        .with_max_x(text_left + 200.0)
+                        .with_min_x(gutter.left())
+                        .with_max_x(gutter.left() + 1.0)
                         .expand2(vec2(0.0, 2.0 * row_height));
                     ui.scroll_to_rect(rect, None);
                 }

@@ -150,6 +150,16 @@ impl Default for Files {
 }
 
 impl Files {
+    /// The request for `purpose`.
+    pub fn request(&mut self, purpose: Purpose) -> &mut PathRequest {
+        match purpose {
+            Purpose::OpenProgram => &mut self.open,
+            Purpose::SaveSession => &mut self.save,
+            Purpose::ExportCsv => &mut self.export,
+            Purpose::SaveProgram => &mut self.save_program,
+        }
+    }
+
     pub fn is_waiting(&self) -> bool {
         self.open.is_waiting()
             || self.save.is_waiting()
@@ -260,4 +270,12 @@ pub fn openable_extensions() -> Vec<&'static str> {
         .flat_map(|d| d.extensions.iter().copied())
         .chain(["ron"])
         .collect()
+}
+
+/// The last part of `path`, for titles and names (the whole path when it has none).
+pub fn file_name(path: &std::path::Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
 }

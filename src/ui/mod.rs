@@ -337,7 +337,12 @@ impl ServoscopeApp {
     }
 
     fn open_failed(&mut self, message: String) {
-        self.files.open.error = Some(message.clone());
+        self.file_failed(files::Purpose::OpenProgram, message);
+    }
+
+    /// A file could not be opened or written: said in its dialog and in the notice banner.
+    fn file_failed(&mut self, purpose: files::Purpose, message: String) {
+        self.files.request(purpose).error = Some(message.clone());
         self.notice = Some(message);
     }
 
@@ -393,11 +398,7 @@ impl ServoscopeApp {
             None => registry::choose(path, None).map_err(|e| e.to_string())?,
         };
         let text = crate::text::read(path).map_err(|e| format!("Cannot open the program: {e}"))?;
-        let name = path.file_name().map_or_else(
-            || path.display().to_string(),
-            |n| n.to_string_lossy().into_owned(),
-        );
-        self.debugger.load_as(dialect, name, text);
+        self.debugger.load_as(dialect, files::file_name(path), text);
         self.file_text = Some(self.debugger.source().to_string());
         self.path = Some(path.to_path_buf());
         self.session_path = None;
@@ -461,30 +462,24 @@ impl ServoscopeApp {
                 path.display(),
                 self.debugger.dialect().extensions[0]
             );
-            self.files.save_program.error = Some(message.clone());
-            self.notice = Some(message);
+            self.file_failed(files::Purpose::SaveProgram, message);
             return;
         }
         let path = std::path::absolute(&path).unwrap_or(path);
         let text = self.debugger.source().to_string();
         match crate::atomic::write_atomically(&path, |w| w.write_all(text.as_bytes())) {
             Ok(()) => {
-                let name = path.file_name().map_or_else(
-                    || path.display().to_string(),
-                    |n| n.to_string_lossy().into_owned(),
-                );
-                self.debugger.rename(name);
+                self.debugger.rename(files::file_name(&path));
                 self.path = Some(path.clone());
                 self.file_text = Some(text);
                 self.remember(&path);
                 self.files.save_program.close();
                 self.notice = Some(format!("Program saved to {}", path.display()));
             }
-            Err(e) => {
-                let message = format!("Cannot write {}: {e}", path.display());
-                self.files.save_program.error = Some(message.clone());
-                self.notice = Some(message);
-            }
+            Err(e) => self.file_failed(
+                files::Purpose::SaveProgram,
+                format!("Cannot write {}: {e}", path.display()),
+            ),
         }
     }
 
@@ -525,10 +520,7 @@ impl ServoscopeApp {
                     self.perform(action);
                 }
             }
-            Err(e) => {
-                self.files.save.error = Some(e.to_string());
-                self.notice = Some(e.to_string());
-            }
+            Err(e) => self.file_failed(files::Purpose::SaveSession, e.to_string()),
         }
     }
 
@@ -632,11 +624,10 @@ impl ServoscopeApp {
                     self.files.export.close();
                     self.notice = Some(format!("Exported {rows} rows to {}", path.display()));
                 }
-                Err(e) => {
-                    let message = format!("Cannot write {}: {e}", path.display());
-                    self.files.export.error = Some(message.clone());
-                    self.notice = Some(message);
-                }
+                Err(e) => self.file_failed(
+                    files::Purpose::ExportCsv,
+                    format!("Cannot write {}: {e}", path.display()),
+                ),
             },
             Command::LoadExample(i) => self.guarded(Pending::Example(i)),
             Command::LoadLesson(i) => self.guarded(Pending::Lesson(i)),

@@ -225,7 +225,9 @@ fn accessible(
 }
 
 fn ring(ui: &mut egui::Ui, name: &str, h: &QueueHeader, access: Option<&QueueAccess>, p: &Palette) {
-    let (outer, inner) = (90.0, 50.0);
+    // As big as the column allows (never drawn over its neighbour), 90 px at most.
+    let outer = ((ui.available_width() - 44.0) / 2.0).clamp(40.0, 90.0);
+    let inner = outer * 5.0 / 9.0;
     let size = Vec2::splat(2.0 * outer + 44.0);
     let (rect, _) = ui.allocate_exact_size(size, Sense::hover());
     let c = rect.center();
