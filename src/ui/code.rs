@@ -162,8 +162,9 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
     let long = view.lines.text_lines() > EDIT_IN_PLACE_LINES;
     let header = ui
         .horizontal(|ui| {
-            let label = ui.strong("Program");
-            ui.label(RichText::new(debugger.name()).monospace());
+            // The tab says "Program"; the header names it, and names the editor for screen
+            // readers.
+            let label = ui.label(RichText::new(debugger.name()).monospace().strong());
             if long {
                 super::code_rows::edit_switch(ui, view, view.lines.text_lines());
             }

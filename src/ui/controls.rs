@@ -3,6 +3,7 @@
 use egui::{Key, KeyboardShortcut, Modifiers};
 
 use super::code::CodeView;
+use super::layout::Pane;
 use super::{Command, ServoscopeApp};
 use crate::debugger::{Debugger, Speed};
 use crate::machine::registry::{self, DIALECTS};
@@ -186,6 +187,26 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
             {
                 out.push(Command::OpenSettings);
             }
+            ui.separator();
+            let dialect_panes = app
+                .panel_titles()
+                .into_iter()
+                .map(|t| Pane::Dialect(t.to_string()));
+            for pane in Pane::COMMON.into_iter().chain(dialect_panes) {
+                let mut shown = app.layout.contains(&pane);
+                let title = pane.title().to_string();
+                if ui
+                    .checkbox(&mut shown, format!("{title} panel"))
+                    .on_hover_text("Shown in the window; drag its tab to move it")
+                    .changed()
+                {
+                    out.push(Command::ShowPane(pane, shown));
+                }
+            }
+            if ui.button("Reset layout").clicked() {
+                out.push(Command::ResetLayout);
+            }
+            ui.separator();
             if ui.radio(app.prefs.dark, "Dark theme").clicked() {
                 out.push(Command::SetDark(true));
             }

@@ -7,6 +7,7 @@ pub mod code_rows;
 pub mod controls;
 pub mod files;
 pub mod frames;
+pub mod layout;
 pub mod loading;
 pub mod panels;
 pub mod plot;
@@ -77,6 +78,9 @@ pub enum Command {
     SetDark(bool),
     OpenSettings,
     SetSettings(Settings),
+    /// Close (false) or reopen (true) a panel.
+    ShowPane(layout::Pane, bool),
+    ResetLayout,
 }
 
 /// Preferences kept between runs by eframe's storage (never the program state).
@@ -88,6 +92,9 @@ pub struct Prefs {
     pub speed: Speed,
     pub register_format: Format,
     pub only_used_registers: bool,
+    /// The panel layout as the user left it; `None` for the default.
+    #[serde(with = "layout::as_text")]
+    pub layout: Option<layout::Layout>,
 }
 
 impl Default for Prefs {
@@ -98,6 +105,7 @@ impl Default for Prefs {
             speed: Speed::PerSecond(10.0),
             register_format: Format::Signed,
             only_used_registers: true,
+            layout: None,
         }
     }
 }
@@ -135,6 +143,7 @@ pub struct ServoscopeApp {
     pub timeline: timeline::TimelineView,
     pub settings: settings::SettingsView,
     pub files: files::Files,
+    pub layout: layout::Layout,
     /// The current dialect's own panels, and the dialect they were made for.
     panels: Vec<Box<dyn DialectPanel>>,
     panels_for: &'static str,
@@ -170,6 +179,14 @@ impl ServoscopeApp {
         let mut debugger = Debugger::with_dialect(dialect, name, text);
         debugger.set_speed(prefs.speed);
         let registers = registers::RegisterView::new(&prefs);
+        let panels = (dialect.panels)();
+        let titles: Vec<&str> = panels.iter().map(|p| p.title()).collect();
+        let mut layout = prefs
+            .layout
+            .clone()
+            .and_then(layout::Layout::checked)
+            .unwrap_or_else(|| layout::Layout::standard(&titles));
+        layout.sync_dialect_panels(&titles);
         let mut app = ServoscopeApp {
             debugger,
             path: None,
@@ -184,7 +201,8 @@ impl ServoscopeApp {
             timeline: timeline::TimelineView::default(),
             settings: settings::SettingsView::default(),
             files: files::Files::default(),
-            panels: (dialect.panels)(),
+            layout,
+            panels,
             panels_for: dialect.name,
             extra_inputs: Vec::new(),
             new_input: String::new(),
@@ -243,12 +261,19 @@ impl ServoscopeApp {
         self.debugger.set_speed(view.speed);
     }
 
+    /// The titles of the current dialect's own panels.
+    pub fn panel_titles(&self) -> Vec<&'static str> {
+        self.panels.iter().map(|p| p.title()).collect()
+    }
+
     /// Make the dialect panels match the debugger's dialect.
     fn sync_panels(&mut self) {
         let dialect = self.debugger.dialect();
         if self.panels_for != dialect.name {
             self.panels = (dialect.panels)();
             self.panels_for = dialect.name;
+            let titles: Vec<&str> = self.panels.iter().map(|p| p.title()).collect();
+            self.layout.sync_dialect_panels(&titles);
             self.extra_inputs.clear();
             self.settings = settings::SettingsView::default();
         }
@@ -642,6 +667,11 @@ impl ServoscopeApp {
             }
             Command::CancelPending => self.pending = None,
             Command::SetDark(dark) => self.prefs.dark = dark,
+            Command::ShowPane(pane, shown) => self.layout.set_shown(&pane, shown),
+            Command::ResetLayout => {
+                let titles: Vec<&str> = self.panels.iter().map(|p| p.title()).collect();
+                self.layout = layout::Layout::standard(&titles);
+            }
             Command::OpenSettings => self.settings.open = true,
             Command::SetSettings(settings) => {
                 self.debugger.set_settings(&settings);
@@ -716,17 +746,6 @@ impl ServoscopeApp {
         egui::Panel::bottom("status_bar").show(ui, |ui| {
             status::status_bar(ui, &self.debugger);
         });
-        egui::Panel::bottom("timeline").show(ui, |ui| {
-            timeline::show(ui, &self.debugger, &mut self.timeline, &mut commands);
-        });
-        // Panel sizes are remembered by egui's own memory, which eframe persists.
-        egui::Panel::right("registers")
-            .resizable(true)
-            .default_size(560.0)
-            .min_size(380.0)
-            .show(ui, |ui| {
-                registers::show(ui, &self.debugger, &mut self.registers, &mut commands);
-            });
         egui::CentralPanel::default().show(ui, |ui| {
             if let Some(notice) = self.notice.clone()
                 && status::notice_banner(ui, &notice)
@@ -734,45 +753,17 @@ impl ServoscopeApp {
                 self.notice = None;
             }
             status::fault_banner(ui, &self.debugger);
-            egui::Panel::bottom("queues_and_plot")
-                .resizable(true)
-                .default_size(310.0)
-                .min_size(160.0)
-                .show(ui, |ui| {
-                    // Content sizes itself to the panel, never the reverse.
-                    let height = ui.available_height();
-                    ui.set_min_height(height);
-                    let debugger = &self.debugger;
-                    let mut shown: Vec<&mut Box<dyn DialectPanel>> = self
-                        .panels
-                        .iter_mut()
-                        .filter(|p| p.has_content(debugger))
-                        .collect();
-                    if shown.is_empty() {
-                        // No dialect panel has anything to draw: each says so in one line
-                        // (what would make it appear) and the plot takes the width.
-                        for panel in self.panels.iter_mut() {
-                            panel.show(ui, debugger, 24.0, &mut commands);
-                        }
-                        let rest = ui.available_height();
-                        plot::show(ui, debugger, &mut self.plot, rest, &mut commands);
-                    } else {
-                        ui.columns(2, |columns| {
-                            let each = height / shown.len() as f32;
-                            for panel in shown.iter_mut() {
-                                panel.show(&mut columns[0], debugger, each, &mut commands);
-                            }
-                            plot::show(
-                                &mut columns[1],
-                                debugger,
-                                &mut self.plot,
-                                height,
-                                &mut commands,
-                            );
-                        });
-                    }
-                });
-            code::show(ui, &self.debugger, &mut self.code, &mut commands);
+            let mut panes = layout::Panes {
+                debugger: &self.debugger,
+                code: &mut self.code,
+                registers: &mut self.registers,
+                plot: &mut self.plot,
+                timeline: &mut self.timeline,
+                dialect_panels: &mut self.panels,
+                out: &mut commands,
+            };
+            self.layout.fit_timeline(timeline::height(ui.style()), 24.0);
+            self.layout.tree.ui(&mut panes, ui);
         });
         self.files.windows(&ctx, &self.prefs, &mut commands);
         settings::window(&ctx, &self.debugger, &mut self.settings, &mut commands);
@@ -883,6 +874,7 @@ impl eframe::App for ServoscopeApp {
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        self.prefs.layout = Some(self.layout.clone());
         eframe::set_value(storage, PREFS_KEY, &self.prefs);
     }
 }

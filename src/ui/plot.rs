@@ -37,6 +37,17 @@ pub struct PlotView {
     pub channel_error: Option<String>,
     cache: Vec<(CacheKey, Vec<[f64; 2]>)>,
     reset_requested: bool,
+    /// What each stacked plot showed last frame, top to bottom.
+    pub frames: Vec<PlotFrame>,
+}
+
+/// Where a plot drew its data and which ranges it showed. The plots share one time scale, so
+/// their frames share their left and right edges.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlotFrame {
+    pub rect: egui::Rect,
+    pub x: (f64, f64),
+    pub y: (f64, f64),
 }
 
 impl Default for PlotView {
@@ -49,6 +60,7 @@ impl Default for PlotView {
             channel_error: None,
             cache: Vec::new(),
             reset_requested: false,
+            frames: Vec::new(),
         }
     }
 }
@@ -100,10 +112,85 @@ fn colour(p: &Palette, index: usize) -> Color32 {
     ][index % 8]
 }
 
+/// Labels need about this much room apart; egui_plot's default (60 px) leaves short traces
+/// with a single label.
+const X_LABEL_SPACING: std::ops::RangeInclusive<f32> = 44.0..=64.0;
+
 fn ms_axis<'a>(tick_micros: f64) -> AxisHints<'a> {
     AxisHints::new_x()
         .label("time (ms)")
+        .label_spacing(X_LABEL_SPACING)
         .formatter(move |mark, _range| format!("{:.1}", mark.value * tick_micros / 1000.0))
+}
+
+/// Grid steps in a 1–2–5 sequence (egui_plot's default steps by 10, so a plot a few hundred
+/// pixels wide often has room for a single label).
+fn steps_125(input: egui_plot::GridInput) -> [f64; 3] {
+    let base = input.base_step_size.max(f64::MIN_POSITIVE);
+    let decade = 10f64.powf(base.log10().floor());
+    let unit = [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * decade)
+        .find(|&s| s >= base)
+        .unwrap_or(10.0 * decade);
+    let mantissa = (unit / 10f64.powf(unit.log10().floor())).round();
+    // Each step a multiple of the one before, so the thicker lines fall on thinner ones.
+    match mantissa as u8 {
+        2 => [unit, unit * 5.0, unit * 10.0],
+        5 => [unit, unit * 2.0, unit * 10.0],
+        _ => [unit, unit * 5.0, unit * 10.0],
+    }
+}
+
+/// One time axis (ticks, or ms) under the last plot. egui_plot drops a plot's axes altogether
+/// when they leave no room for data, so their room is set aside first.
+const X_AXIS_HEIGHT: f32 = 34.0;
+
+/// Below this panel height only the tick axis is drawn (the readout still gives ms).
+const BOTH_AXES_FROM: f32 = 260.0;
+
+/// Every plot's y axis is this wide, so the plots' data areas line up under each other.
+const Y_AXIS_WIDTH: f32 = 78.0;
+
+/// A y-axis label that fits [`Y_AXIS_WIDTH`]: large values with a k/M/G suffix.
+fn compact(value: f64) -> String {
+    let magnitude = value.abs();
+    let (scaled, suffix) = if magnitude >= 1e9 {
+        (value / 1e9, "G")
+    } else if magnitude >= 1e6 {
+        (value / 1e6, "M")
+    } else if magnitude >= 1e4 {
+        (value / 1e3, "k")
+    } else {
+        return if value.fract() == 0.0 {
+            format!("{value:.0}")
+        } else {
+            format!("{value:.2}")
+        };
+    };
+    let text = format!("{scaled:.2}");
+    let text = text.trim_end_matches('0').trim_end_matches('.');
+    format!("{text}{suffix}")
+}
+
+/// The y range that shows `values`: 5 % of margin around them; a constant value gets a small
+/// range of its own (at least ±1) instead of egui_plot's huge default.
+pub fn y_range(values: impl IntoIterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = values
+        .into_iter()
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if lo > hi {
+        return (-1.0, 1.0);
+    }
+    let span = hi - lo;
+    if span < 1.0 {
+        let pad = (lo.abs() * 0.05).max(1.0);
+        return (lo - pad, hi + pad);
+    }
+    (lo - span * 0.05, hi + span * 0.05)
 }
 
 fn readout(trace: &Trace, channels: &[Channel], tick: u64, micros: f64) -> Option<String> {
@@ -204,13 +291,7 @@ fn channel_editor(
     }
 }
 
-pub fn show(
-    ui: &mut egui::Ui,
-    debugger: &Debugger,
-    view: &mut PlotView,
-    height: f32,
-    out: &mut Vec<Command>,
-) {
+pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut PlotView, out: &mut Vec<Command>) {
     let p = palette(ui.visuals().dark_mode);
     let trace = debugger.trace();
     let channels = debugger.channels();
@@ -218,8 +299,7 @@ pub fn show(
     let now = machine.ticks();
     let micros = f64::from(machine.tick_micros());
     let ticks_word = debugger.dialect().vocabulary.tick;
-    ui.horizontal(|ui| {
-        ui.strong("Plot");
+    ui.horizontal_wrapped(|ui| {
         if ui
             .button("Reset view")
             .on_hover_text("Show everything and follow the newest data")
@@ -258,22 +338,27 @@ pub fn show(
     groups.dedup();
     let first = trace.first_tick().unwrap_or(0) as f64;
     let furthest = debugger.furthest_tick();
-    let follow_range = (first, (furthest as f64).max(first + 100.0));
+    // A little room after the newest tick, so its label is not cut at the edge.
+    let last = (furthest as f64).max(first + 100.0);
+    let follow_range = (first, last + (last - first) * 0.03);
     let link = ui.scope_id().with("plot_x_link");
-    // Header and readout lines take about 50 px of the panel; the first plot gets more room.
-    let height = (height - 50.0).max(150.0);
+    // The plots share what is left under the header, less the readout line below; the first
+    // gets the most room. Nothing is drawn past the panel's edge.
     let rows = groups.len() as f32;
-    let main_height = if rows > 1.0 {
-        (height * 0.5).max(80.0)
+    let spacing = ui.spacing().item_spacing.y;
+    let readout_height = ui.text_style_height(&egui::TextStyle::Small) + spacing;
+    let both_axes = ui.available_height() >= BOTH_AXES_FROM;
+    let x_axes_height = if both_axes { 2.0 } else { 1.0 } * X_AXIS_HEIGHT;
+    let room = (ui.available_height() - readout_height - spacing * rows - x_axes_height).max(0.0);
+    // Heights of the data areas; the last plot also carries the two time axes.
+    let (main_height, small_height) = if rows > 1.0 {
+        let main = room * 0.55;
+        (main.max(24.0), ((room - main) / (rows - 1.0)).max(24.0))
     } else {
-        height
-    };
-    let small_height = if rows > 1.0 {
-        ((height - main_height) / (rows - 1.0) - 8.0).max(50.0)
-    } else {
-        0.0
+        (room.max(24.0), 0.0)
     };
     let reset = std::mem::take(&mut view.reset_requested);
+    let mut frames = Vec::new();
     let mut hovered = None;
     let mut clicked = None;
     let mut user_moved = false;
@@ -291,10 +376,23 @@ pub fn show(
             .collect::<Vec<_>>()
             .join(", ");
         let mut plot = Plot::new(("plot", group))
-            .height(if row == 0 { main_height } else { small_height })
+            .height(
+                if row == 0 { main_height } else { small_height }
+                    + if last { x_axes_height } else { 0.0 },
+            )
             .link_axis(link, [true, false])
             .link_cursor(link, [true, false])
-            .auto_bounds([false, true])
+            // y always fits the data in view: the wheel, drags and Ctrl+wheel act on time only;
+            // a box drawn with the right button zooms to that time span.
+            .auto_bounds([false, false])
+            .allow_zoom([true, false])
+            .allow_scroll([true, false])
+            .allow_drag([true, false])
+            .allow_boxed_zoom(true)
+            .x_grid_spacer(egui_plot::uniform_grid_spacer(steps_125))
+            .y_grid_spacer(egui_plot::uniform_grid_spacer(steps_125))
+            .y_axis_min_width(Y_AXIS_WIDTH)
+            .y_axis_formatter(|mark, _| compact(mark.value))
             .y_axis_label(axis_label)
             .allow_double_click_reset(false)
             .show_x(false)
@@ -304,7 +402,15 @@ pub fn show(
             plot = plot.legend(Legend::default().position(egui_plot::Corner::LeftTop));
         }
         plot = if last {
-            plot.custom_x_axes(vec![AxisHints::new_x().label(ticks_word), ms_axis(micros)])
+            let mut axes = vec![
+                AxisHints::new_x()
+                    .label(ticks_word)
+                    .label_spacing(X_LABEL_SPACING),
+            ];
+            if both_axes {
+                axes.push(ms_axis(micros));
+            }
+            plot.custom_x_axes(axes)
         } else {
             plot.show_axes([false, true])
         };
@@ -315,11 +421,38 @@ pub fn show(
             if view.following || reset {
                 plot_ui.set_plot_bounds_x(follow_range.0..=follow_range.1);
             }
+            // A plain mouse wheel only scrolls up and down: here that moves along time (y is
+            // never scrolled, it fits the data).
+            let (wheel, zooming) = plot_ui.ctx().input(|i| {
+                (
+                    i.smooth_scroll_delta.y,
+                    i.modifiers.command || i.modifiers.ctrl,
+                )
+            });
+            if wheel != 0.0 && !zooming && plot_ui.response().hovered() {
+                plot_ui.translate_bounds(egui::vec2(wheel, 0.0));
+            }
             let bounds = plot_ui.plot_bounds();
             let (x0, x1) = (bounds.min()[0], bounds.max()[0]);
             let columns = plot_ui.response().rect.width().max(1.0) as usize;
-            for &(index, channel) in &members {
-                let points = view.points(trace, index, x0, x1, columns);
+            let lines: Vec<(usize, &Channel, Vec<[f64; 2]>)> = members
+                .iter()
+                .map(|&(index, channel)| {
+                    (index, channel, view.points(trace, index, x0, x1, columns))
+                })
+                .collect();
+            let range = y_range(
+                lines
+                    .iter()
+                    .flat_map(|(_, _, pts)| pts.iter().map(|p| p[1])),
+            );
+            plot_ui.set_plot_bounds_y(range.0..=range.1);
+            frames.push(PlotFrame {
+                rect: *plot_ui.transform().frame(),
+                x: (x0, x1),
+                y: range,
+            });
+            for (index, channel, points) in lines {
                 plot_ui.line(
                     Line::new(channel.label.as_str(), PlotPoints::from(points))
                         .color(colour(&p, index))
@@ -352,6 +485,7 @@ pub fn show(
             }
         }
     }
+    view.frames = frames;
     if user_moved {
         view.following = false;
     }
@@ -374,4 +508,45 @@ pub fn show(
             format!("Hover the plot to read values; click to go to that {ticks_word}.")
         });
     ui.label(RichText::new(text).monospace().small());
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn y_range_pads_data_and_gives_constants_a_range() {
+        assert_eq!(y_range([0.0, 0.0]), (-1.0, 1.0));
+        assert_eq!(y_range([]), (-1.0, 1.0));
+        assert_eq!(y_range([f64::NAN]), (-1.0, 1.0));
+        assert_eq!(y_range([1000.0]), (950.0, 1050.0));
+        assert_eq!(y_range([-5.0]), (-6.0, -4.0));
+        assert_eq!(y_range([0.0, 100.0, 50.0]), (-5.0, 105.0));
+    }
+
+    #[test]
+    fn axis_labels_stay_short() {
+        assert_eq!(compact(0.0), "0");
+        assert_eq!(compact(-2500.0), "-2500");
+        assert_eq!(compact(0.5), "0.50");
+        assert_eq!(compact(30_000_000.0), "30M");
+        assert_eq!(compact(-1_250_000.0), "-1.25M");
+        assert_eq!(compact(12_000.0), "12k");
+        assert_eq!(compact(2_147_483_647.0), "2.15G");
+    }
+
+    #[test]
+    fn grid_steps_run_one_two_five() {
+        let steps = |base| {
+            steps_125(egui_plot::GridInput {
+                bounds: (0.0, 1.0),
+                base_step_size: base,
+            })
+        };
+        assert_eq!(steps(1.0), [1.0, 5.0, 10.0]);
+        assert_eq!(steps(1.5), [2.0, 10.0, 20.0]);
+        assert_eq!(steps(3.0), [5.0, 10.0, 50.0]);
+        assert_eq!(steps(7.0), [10.0, 50.0, 100.0]);
+        assert_eq!(steps(120.0), [200.0, 1000.0, 2000.0]);
+    }
 }

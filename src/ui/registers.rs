@@ -97,15 +97,8 @@ pub fn visible_locations(m: &dyn MachineView, only_used: bool) -> Vec<Loc> {
     locs
 }
 
-pub fn show(
-    ui: &mut egui::Ui,
-    debugger: &Debugger,
-    view: &mut RegisterView,
-    out: &mut Vec<Command>,
-) {
-    flags(ui, debugger, out);
-    ui.separator();
-    ui.horizontal(|ui| {
+pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView) {
+    ui.horizontal_wrapped(|ui| {
         egui::ComboBox::new("register_format", "Format")
             .selected_text(view.format.name())
             .show_ui(ui, |ui| {
@@ -115,12 +108,37 @@ pub fn show(
             });
         ui.checkbox(&mut view.only_used, "Only what this program uses");
     });
-    if let Some(loc) = view.selected {
-        ui.separator();
-        bit_grid(ui, debugger, view, loc, out);
-    }
     ui.separator();
-    table(ui, debugger, view);
+    // Wide formats (binary of 64 bits) scroll sideways instead of widening the panel.
+    egui::ScrollArea::horizontal()
+        .id_salt("register_table_sideways")
+        .auto_shrink([false, false])
+        .show(ui, |ui| table(ui, debugger, view));
+}
+
+/// The Bits panel: flag words as named bits, then the selected location bit by bit.
+pub fn show_bits(
+    ui: &mut egui::Ui,
+    debugger: &Debugger,
+    view: &mut RegisterView,
+    out: &mut Vec<Command>,
+) {
+    egui::ScrollArea::vertical()
+        .id_salt("bits_scroll")
+        .auto_shrink([false, false])
+        .show(ui, |ui| {
+            flags(ui, debugger, out);
+            ui.separator();
+            match view.selected {
+                Some(loc) => bit_grid(ui, debugger, view, loc, out),
+                None => {
+                    ui.label(
+                        RichText::new("Click a row of Registers to see and set its bits here.")
+                            .color(palette(ui.visuals().dark_mode).dim),
+                    );
+                }
+            }
+        });
 }
 
 /// Flag words as rows of named-bit chips; single flag relays as one row of chips.
@@ -244,8 +262,8 @@ fn bit_grid(
         }
         ui.label(RichText::new(info.description).color(p.dim));
         if ui
-            .small_button("Close")
-            .on_hover_text("Close the bit view")
+            .small_button("Deselect")
+            .on_hover_text("Show no location here")
             .clicked()
         {
             view.selected = None;

@@ -25,7 +25,7 @@ pub fn show(
     let pos = debugger.pos();
     let now = pos.tick;
     let furthest = debugger.furthest_tick();
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         let back_ok = pos > crate::machine::Pos::default() && !debugger.is_edited();
         if ui
             .add_enabled(back_ok, egui::Button::new("Reverse"))
@@ -42,41 +42,32 @@ pub fn show(
             out.push(Command::StepBackCommand);
         }
         if ui
-            .add_enabled(back_ok, egui::Button::new(format!("{} back", capitalised(words.tick))))
-            .on_hover_text(format!("Back to the start of this or the previous {} (Shift+F11)", words.tick))
+            .add_enabled(
+                back_ok,
+                egui::Button::new(format!("{} back", capitalised(words.tick))),
+            )
+            .on_hover_text(format!(
+                "Back to the start of this or the previous {} (Shift+F11)",
+                words.tick
+            ))
             .clicked()
         {
             out.push(Command::StepBackTick);
         }
-        let label = ui.label("Timeline");
-        let mut tick = now;
-        let width = (ui.available_width() - 230.0).max(120.0);
-        ui.spacing_mut().slider_width = width;
-        let slider = ui
-            .add_enabled(furthest > 0, egui::Slider::new(&mut tick, 0..=furthest.max(1)).show_value(false))
-            .labelled_by(label.id)
-            .on_hover_text(format!(
-                "Drag to any {} between 0 and {furthest}, the furthest reached. Marks: breakpoint hits (blue), faults (red).", words.tick
-            ));
-        if slider.changed() && tick != now {
-            out.push(Command::GoToTick(tick));
-        }
-        // Marks over the slider's rail.
-        let rail = slider.rect.shrink2(vec2(6.0, 0.0));
-        let x_of = |t: u64| rail.left() + rail.width() * t as f32 / furthest.max(1) as f32;
-        let painter = ui.painter();
-        for m in debugger.marks() {
-            let colour = match m.kind {
-                MarkKind::Breakpoint => p.mnemonic,
-                MarkKind::Fault => p.error,
-            };
-            let x = x_of(m.at.tick);
-            painter.line_segment([egui::pos2(x, rail.top()), egui::pos2(x, rail.bottom())], Stroke::new(2.0, colour));
-        }
-        ui.label(RichText::new(format!("{now} / {furthest}")).monospace().color(p.dim));
+        ui.label(
+            RichText::new(format!("{now} / {furthest}"))
+                .monospace()
+                .color(p.dim),
+        )
+        .on_hover_text(format!("This {} / the furthest reached", words.tick));
         let goto_label = ui.label(format!("Go to {}", words.tick));
+        // Wide enough for the furthest tick's digits, so a long run never cuts it off.
+        let digits = furthest.max(1).ilog10() as f32 + 2.0;
         let edit = ui
-            .add(egui::TextEdit::singleline(&mut view.goto_text).desired_width(80.0))
+            .add(
+                egui::TextEdit::singleline(&mut view.goto_text)
+                    .desired_width((digits * 9.0).max(80.0)),
+            )
             .labelled_by(goto_label.id);
         if edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)) {
             match view.goto_text.trim().replace('_', "").parse::<u64>() {
@@ -84,13 +75,59 @@ pub fn show(
                     view.goto_error = None;
                     out.push(Command::GoToTick(t));
                 }
-                Err(_) => view.goto_error = Some(format!("'{}' is not a {} number", view.goto_text.trim(), words.tick)),
+                Err(_) => {
+                    view.goto_error = Some(format!(
+                        "'{}' is not a {} number",
+                        view.goto_text.trim(),
+                        words.tick
+                    ))
+                }
             }
         }
         if let Some(e) = &view.goto_error {
             ui.label(RichText::new(e).color(p.error));
         }
     });
+    // The scrubber has a row of its own: the whole width of the panel, at any window size.
+    let mut tick = now;
+    ui.spacing_mut().slider_width = (ui.available_width() - 12.0).max(60.0);
+    let slider = ui
+        .add_enabled(
+            furthest > 0,
+            egui::Slider::new(&mut tick, 0..=furthest.max(1)).show_value(false),
+        )
+        .on_hover_text(format!(
+            "Drag to any {} between 0 and {furthest}, the furthest reached. \
+             Marks: breakpoint hits (blue), faults (red).",
+            words.tick
+        ));
+    slider.widget_info(|| {
+        egui::WidgetInfo::labeled(egui::Role::Slider, furthest > 0, "Timeline position")
+    });
+    if slider.changed() && tick != now {
+        out.push(Command::GoToTick(tick));
+    }
+    // Marks over the slider's rail.
+    let rail = slider.rect.shrink2(vec2(6.0, 0.0));
+    let x_of = |t: u64| rail.left() + rail.width() * t as f32 / furthest.max(1) as f32;
+    let painter = ui.painter();
+    for m in debugger.marks() {
+        let colour = match m.kind {
+            MarkKind::Breakpoint => p.mnemonic,
+            MarkKind::Fault => p.error,
+        };
+        let x = x_of(m.at.tick);
+        painter.line_segment(
+            [egui::pos2(x, rail.top()), egui::pos2(x, rail.bottom())],
+            Stroke::new(2.0, colour),
+        );
+    }
+}
+
+/// The height the timeline needs: its two rows.
+pub fn height(style: &egui::Style) -> f32 {
+    let row = style.spacing.interact_size.y.max(20.0);
+    2.0 * row + 2.0 * style.spacing.item_spacing.y + 6.0
 }
 
 /// `scan` → `Scan`.

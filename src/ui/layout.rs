@@ -1,0 +1,351 @@
+//! The dockable layout: every panel is a tile of an [`egui_tiles::Tree`] that the user can
+//! resize, drag into a tab stack or beside another, close (the × on its tab, or the View menu)
+//! and reopen from the View menu. The tree is kept with the preferences; View → Reset layout
+//! builds the default again.
+//!
+//! A dialect's own panels are tiles too, named by their title; when the dialect changes,
+//! [`Layout::sync_dialect_panels`] swaps them so a layout never shows another dialect's panel.
+
+use egui_tiles::{Behavior, SimplificationOptions, TileId, Tiles, Tree, UiResponse};
+use serde::{Deserialize, Serialize};
+
+use super::panels::DialectPanel;
+use super::{Command, code, plot, registers, timeline};
+use crate::debugger::Debugger;
+
+/// One panel of the window.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Pane {
+    Program,
+    Registers,
+    /// Flag words as named bits, and the selected location bit by bit.
+    Bits,
+    Plot,
+    Timeline,
+    /// A dialect's own panel, by its title (SilverLode's "Queues").
+    Dialect(String),
+}
+
+impl Pane {
+    /// The panels every dialect has, in View-menu order.
+    pub const COMMON: [Pane; 5] = [
+        Pane::Program,
+        Pane::Registers,
+        Pane::Bits,
+        Pane::Plot,
+        Pane::Timeline,
+    ];
+
+    pub fn title(&self) -> &str {
+        match self {
+            Pane::Program => "Program",
+            Pane::Registers => "Registers",
+            Pane::Bits => "Bits",
+            Pane::Plot => "Plot",
+            Pane::Timeline => "Timeline",
+            Pane::Dialect(title) => title,
+        }
+    }
+
+    /// The least room in which the panel is still usable (width, height, tab bar excluded).
+    /// The default layout keeps every panel at least this big in a window of 900×600 or more.
+    pub fn min_size(&self) -> egui::Vec2 {
+        match self {
+            Pane::Program => egui::vec2(260.0, 140.0),
+            Pane::Registers => egui::vec2(220.0, 120.0),
+            Pane::Bits => egui::vec2(220.0, 60.0),
+            Pane::Plot => egui::vec2(200.0, 100.0),
+            Pane::Timeline => egui::vec2(300.0, 28.0),
+            Pane::Dialect(_) => egui::vec2(160.0, 80.0),
+        }
+    }
+}
+
+/// Below this no tile can be dragged smaller.
+const MIN_TILE: f32 = 40.0;
+
+const TREE_ID: &str = "servoscope_layout";
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(transparent)]
+pub struct Layout {
+    pub tree: Tree<Pane>,
+}
+
+impl Default for Layout {
+    fn default() -> Self {
+        Layout::standard(&[])
+    }
+}
+
+impl Layout {
+    /// The default arrangement: program over the timeline and the plot (beside the dialect's
+    /// panels) on the left; registers over bits on the right.
+    pub fn standard(dialect_panels: &[&str]) -> Self {
+        let mut tiles = Tiles::default();
+        let program = tiles.insert_pane(Pane::Program);
+        let timeline = tiles.insert_pane(Pane::Timeline);
+        let plot = tiles.insert_pane(Pane::Plot);
+        let mut lower: Vec<TileId> = dialect_panels
+            .iter()
+            .map(|t| tiles.insert_pane(Pane::Dialect((*t).to_string())))
+            .collect();
+        let beside_plot = lower.clone();
+        lower.push(plot);
+        let lower = tiles.insert_horizontal_tile(lower);
+        let left = tiles.insert_vertical_tile(vec![program, timeline, lower]);
+        let registers = tiles.insert_pane(Pane::Registers);
+        let bits = tiles.insert_pane(Pane::Bits);
+        let right = tiles.insert_vertical_tile(vec![registers, bits]);
+        let root = tiles.insert_horizontal_tile(vec![left, right]);
+        set_shares(
+            &mut tiles,
+            left,
+            &[(program, 1.0), (timeline, 0.2), (lower, 1.0)],
+        );
+        set_shares(&mut tiles, right, &[(registers, 3.0), (bits, 2.0)]);
+        // The plot is the widest thing down there.
+        let mut shares: Vec<(TileId, f32)> = beside_plot.into_iter().map(|t| (t, 2.0)).collect();
+        shares.push((plot, 3.0));
+        set_shares(&mut tiles, lower, &shares);
+        set_shares(&mut tiles, root, &[(left, 3.0), (right, 2.0)]);
+        Layout {
+            tree: Tree::new(egui::Id::unique(TREE_ID), root, tiles),
+        }
+    }
+
+    pub fn contains(&self, pane: &Pane) -> bool {
+        self.tree.tiles.find_pane(pane).is_some()
+    }
+
+    /// Each shown pane with where it was drawn in the last frame.
+    pub fn pane_rects(&self) -> Vec<(Pane, egui::Rect)> {
+        self.tree
+            .tiles
+            .iter()
+            .filter_map(|(&id, tile)| match tile {
+                egui_tiles::Tile::Pane(pane) if self.tree.is_visible_in_layout(id) => {
+                    Some((pane.clone(), self.tree.tiles.rect(id)?))
+                }
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// Close a pane, or bring it back beside the others.
+    pub fn set_shown(&mut self, pane: &Pane, shown: bool) {
+        match (self.tree.tiles.find_pane(pane), shown) {
+            (Some(id), false) => {
+                self.tree.remove_recursively(id);
+            }
+            (None, true) => {
+                let id = self.tree.tiles.insert_pane(pane.clone());
+                match self.tree.root() {
+                    Some(root) => {
+                        if let Some(egui_tiles::Tile::Container(c)) = self.tree.tiles.get_mut(root)
+                        {
+                            c.add_child(id);
+                        }
+                    }
+                    None => self.tree.root = Some(id),
+                }
+                self.tree.make_active(|tile, _| tile == id);
+            }
+            _ => {}
+        }
+    }
+
+    /// Swap the dialect panels in the layout for `titles` (another dialect's): a panel of the
+    /// old dialect gives its place to the first new one, the rest join the plot's container.
+    pub fn sync_dialect_panels(&mut self, titles: &[&str]) {
+        let old: Vec<(TileId, String)> = self
+            .tree
+            .tiles
+            .iter()
+            .filter_map(|(&id, tile)| match tile {
+                egui_tiles::Tile::Pane(Pane::Dialect(t)) => Some((id, t.clone())),
+                _ => None,
+            })
+            .collect();
+        let mut missing: Vec<&str> = titles
+            .iter()
+            .copied()
+            .filter(|t| !old.iter().any(|(_, o)| o == t))
+            .collect();
+        for (id, title) in old {
+            if titles.contains(&title.as_str()) {
+                continue;
+            }
+            if missing.is_empty() {
+                self.tree.remove_recursively(id);
+            } else {
+                let new = missing.remove(0);
+                self.tree
+                    .tiles
+                    .insert(id, egui_tiles::Tile::Pane(Pane::Dialect(new.to_string())));
+            }
+        }
+        for title in missing {
+            let id = self
+                .tree
+                .tiles
+                .insert_pane(Pane::Dialect(title.to_string()));
+            let host = self
+                .tree
+                .tiles
+                .find_pane(&Pane::Plot)
+                .and_then(|plot| self.tree.tiles.parent_of(plot))
+                .and_then(|p| self.tree.tiles.parent_of(p).or(Some(p)))
+                .or(self.tree.root());
+            match host.and_then(|h| self.tree.tiles.get_mut(h)) {
+                Some(egui_tiles::Tile::Container(c)) => c.add_child(id),
+                _ => self.set_shown(&Pane::Dialect(title.to_string()), true),
+            }
+        }
+    }
+
+    /// Keep the timeline at `height` points (its content, plus its tab bar) when it sits in a
+    /// vertical stack: its rows do not grow, so a taller window gives the room to the others.
+    pub fn fit_timeline(&mut self, content_height: f32, tab_bar: f32) {
+        let tiles = &self.tree.tiles;
+        let Some(pane) = tiles.find_pane(&Pane::Timeline) else {
+            return;
+        };
+        // The pane sits in its tab container, which sits in the stack.
+        let tabs = tiles.parent_of(pane).unwrap_or(pane);
+        let Some(stack) = tiles.parent_of(tabs) else {
+            return;
+        };
+        let Some(stack_rect) = tiles.rect(stack) else {
+            return;
+        };
+        let Some(egui_tiles::Tile::Container(egui_tiles::Container::Linear(linear))) =
+            self.tree.tiles.get_mut(stack)
+        else {
+            return;
+        };
+        if linear.dir != egui_tiles::LinearDir::Vertical || linear.children.len() < 2 {
+            return;
+        }
+        let gaps = 4.0 * (linear.children.len() - 1) as f32;
+        let others: f32 = linear
+            .children
+            .iter()
+            .filter(|&&c| c != tabs)
+            .map(|&c| linear.shares[c])
+            .sum();
+        let want = content_height + tab_bar + 8.0;
+        let rest = stack_rect.height() - gaps - want;
+        if rest > 0.0 && others > 0.0 {
+            linear.shares.set_share(tabs, others * want / rest);
+        }
+    }
+
+    /// A layout read from preferences, if it is usable: every tile it refers to exists.
+    pub fn checked(self) -> Option<Self> {
+        let tiles = &self.tree.tiles;
+        let root = self.tree.root()?;
+        tiles.get(root)?;
+        let sound = tiles.tiles().all(|tile| match tile {
+            egui_tiles::Tile::Pane(_) => true,
+            egui_tiles::Tile::Container(c) => c.children().all(|child| tiles.get(*child).is_some()),
+        });
+        sound.then_some(self)
+    }
+}
+
+fn set_shares(tiles: &mut Tiles<Pane>, container: TileId, shares: &[(TileId, f32)]) {
+    if let Some(egui_tiles::Tile::Container(egui_tiles::Container::Linear(linear))) =
+        tiles.get_mut(container)
+    {
+        for &(child, share) in shares {
+            linear.shares.set_share(child, share);
+        }
+    }
+}
+
+/// What the panes draw from, and where they put what the user asked for.
+pub struct Panes<'a> {
+    pub debugger: &'a Debugger,
+    pub code: &'a mut code::CodeView,
+    pub registers: &'a mut registers::RegisterView,
+    pub plot: &'a mut plot::PlotView,
+    pub timeline: &'a mut timeline::TimelineView,
+    pub dialect_panels: &'a mut [Box<dyn DialectPanel>],
+    pub out: &'a mut Vec<Command>,
+}
+
+impl Behavior<Pane> for Panes<'_> {
+    fn tab_title_for_pane(&mut self, pane: &Pane) -> egui::WidgetText {
+        pane.title().to_string().into()
+    }
+
+    fn pane_ui(&mut self, ui: &mut egui::Ui, _tile: TileId, pane: &mut Pane) -> UiResponse {
+        let rect = ui.max_rect().shrink(4.0);
+        let mut ui = ui.new_child(egui::UiBuilder::new().max_rect(rect));
+        ui.shrink_clip_rect(rect);
+        let ui = &mut ui;
+        let debugger = self.debugger;
+        match pane {
+            Pane::Program => code::show(ui, debugger, self.code, self.out),
+            Pane::Registers => registers::show(ui, debugger, self.registers),
+            Pane::Bits => registers::show_bits(ui, debugger, self.registers, self.out),
+            Pane::Plot => plot::show(ui, debugger, self.plot, self.out),
+            Pane::Timeline => timeline::show(ui, debugger, self.timeline, self.out),
+            Pane::Dialect(title) => {
+                let height = ui.available_height();
+                match self.dialect_panels.iter_mut().find(|p| p.title() == title) {
+                    Some(panel) => panel.show(ui, debugger, height, self.out),
+                    None => {
+                        ui.label(format!(
+                            "{} has no {title} panel.",
+                            debugger.dialect().display_name
+                        ));
+                    }
+                }
+            }
+        }
+        UiResponse::None
+    }
+
+    fn is_tab_closable(&self, _tiles: &Tiles<Pane>, _tile: TileId) -> bool {
+        true
+    }
+
+    fn min_size(&self) -> f32 {
+        MIN_TILE
+    }
+
+    fn gap_width(&self, _style: &egui::Style) -> f32 {
+        4.0
+    }
+
+    fn simplification_options(&self) -> SimplificationOptions {
+        SimplificationOptions {
+            // Every panel keeps a tab: its title, its handle for dragging, its close button.
+            all_panes_must_have_tabs: true,
+            ..SimplificationOptions::default()
+        }
+    }
+}
+
+/// The layout inside the preferences, as RON text of its own: a layout that no longer reads
+/// (written by another version, or damaged) falls back to the default without taking the
+/// other preferences with it.
+pub mod as_text {
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    use super::Layout;
+
+    pub fn serialize<S: Serializer>(layout: &Option<Layout>, s: S) -> Result<S::Ok, S::Error> {
+        layout
+            .as_ref()
+            .and_then(|l| ron::to_string(l).ok())
+            .serialize(s)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Layout>, D::Error> {
+        let text = Option::<String>::deserialize(d).unwrap_or_default();
+        Ok(text.and_then(|t| ron::from_str::<Layout>(&t).ok()))
+    }
+}
