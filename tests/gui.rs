@@ -1028,3 +1028,34 @@ fn programs_are_saved_as_files() {
     h.get_by_label_contains("would be read as a session");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue #9 item 9: the path field takes the typing whole (a path left from last time is
+/// selected, not clicked into), and a file dialog that cannot show says so.
+#[test]
+fn the_open_window_selects_its_path_and_says_when_no_dialog_shows() {
+    let mut h = harness(app_with("WRP 20, 5\nEND"));
+    h.state_mut().files.open.path_text = "/old/place/prog.qsl".into();
+    h.key_press_modifiers(Modifiers::COMMAND, Key::O);
+    h.run_steps(3);
+    assert!(h.get_by_label("Path").is_focused());
+    h.get_by_label("Path").type_text("new.qsl");
+    h.run_steps(2);
+    assert_eq!(
+        h.state().files.open.path_text,
+        "new.qsl",
+        "typing replaced it"
+    );
+
+    // Here (no display server, no portal) the system dialog answers at once with nothing.
+    let started = Instant::now();
+    while h.state().files.is_waiting() && started.elapsed() < Duration::from_secs(10) {
+        h.step();
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    h.run_steps(2);
+    h.get_by_label_contains("No system file dialog is available here");
+    // The field still works.
+    h.get_by_label("Path").focus();
+    h.step();
+    assert!(h.get_by_label("Path").is_focused());
+}

@@ -356,3 +356,29 @@ fn the_wheel_zooms_and_pans_time_only() {
     assert!(h.state().plot.following);
     assert!((span(&h.state().plot.frames[0]) - span(&before)).abs() < 1.0);
 }
+
+/// Issue #9 item 9: at the default window size the queue's header words show with the ring,
+/// not below the panel's edge.
+#[test]
+fn the_queue_header_decode_is_in_view_at_the_default_size() {
+    let mut h = harness_sized(ServoscopeApp::new(Prefs::default()), 1280.0, 800.0);
+    for _ in 0..3 {
+        h.key_press(Key::F10);
+        h.run_steps(2);
+    }
+    let queues = h
+        .state()
+        .layout
+        .pane_rects()
+        .into_iter()
+        .find(|(p, _)| *p == Pane::Dialect("Queues".into()))
+        .map(|(_, r)| r)
+        .expect("queues shown");
+    for label in ["size = 4", "len = 2", "head = 2", "tail = 0"] {
+        let rect = h.get_by_label(label).rect();
+        assert!(
+            queues.contains_rect(rect),
+            "{label} at {rect:?}, panel {queues:?}"
+        );
+    }
+}

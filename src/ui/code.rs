@@ -22,8 +22,21 @@ pub struct CodeView {
     pub cursor_line: Option<usize>,
     /// The pc line the view last scrolled to.
     pub(super) last_pc_line: Option<usize>,
-    /// A line to move the cursor to and show (clicked in the problems list).
-    pub pending_jump: Option<usize>,
+    /// Where to put the caret next frame, and show (a problem clicked, a match found, a line
+    /// asked for).
+    pub pending_jump: Option<Jump>,
+    /// The caret as a character index into the text, from the last frame.
+    pub cursor_char: Option<usize>,
+    /// The find or go-to-line bar above the editor, when open.
+    pub bar: Option<Bar>,
+    pub bar_text: String,
+    /// What the bar has to say: "3 of 7", "not found", "no line 900".
+    pub bar_note: Option<String>,
+    /// The editor's visible height, from the last frame (PageUp/PageDown move by it).
+    pub editor_height: f32,
+    /// Give the editor focus next frame too: a click elsewhere that asked for it (a problem
+    /// in the list) may take focus for itself meanwhile.
+    focus_again: bool,
     /// The program's lines, for the row view.
     pub lines: super::code_rows::LineIndex,
     /// A line the row view scrolls to on the next frame.
@@ -33,6 +46,36 @@ pub struct CodeView {
     /// The row view's visible height, from the last frame.
     pub viewport_height: f32,
 }
+
+/// A place in the text: 1-based line and column (in characters), and how many characters
+/// from there to select.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Jump {
+    pub line: usize,
+    pub col: usize,
+    pub len: usize,
+}
+
+impl Jump {
+    pub fn line(line: usize) -> Self {
+        Jump {
+            line,
+            col: 1,
+            len: 0,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Bar {
+    Find,
+    GoToLine,
+}
+
+pub const FIND: egui::KeyboardShortcut =
+    egui::KeyboardShortcut::new(egui::Modifiers::COMMAND, egui::Key::F);
+pub const GO_TO_LINE: egui::KeyboardShortcut =
+    egui::KeyboardShortcut::new(egui::Modifiers::COMMAND, egui::Key::G);
 
 impl CodeView {
     pub fn reset_view(&mut self) {
@@ -133,6 +176,144 @@ pub fn append_line<'a>(
     }
 }
 
+/// The character index of `line`:`col` (1-based), kept inside that line.
+fn char_of(text: &str, line: usize, col: usize) -> usize {
+    let start = char_of_line(text, line);
+    let line_len = text.chars().skip(start).take_while(|&c| c != '\n').count();
+    start + col.saturating_sub(1).min(line_len)
+}
+
+/// Line and column (1-based) of a character index.
+fn line_col(text: &str, char_index: usize) -> (usize, usize) {
+    let mut line = 1;
+    let mut col = 1;
+    for c in text.chars().take(char_index) {
+        if c == '\n' {
+            line += 1;
+            col = 1;
+        } else {
+            col += 1;
+        }
+    }
+    (line, col)
+}
+
+/// The next match of `needle` (ASCII case ignored) starting at character `from`, wrapping to
+/// the start; or the previous one ending before `from` when `backwards`. Returns its
+/// character index, the number of matches, and the match's number among them (1-based).
+pub fn find_match(
+    text: &str,
+    needle: &str,
+    from: usize,
+    backwards: bool,
+) -> Option<(usize, usize, usize)> {
+    if needle.is_empty() {
+        return None;
+    }
+    // ASCII-only folding keeps byte offsets, so matches map straight back to the text.
+    let hay = text.to_ascii_lowercase();
+    let needle = needle.to_ascii_lowercase();
+    let starts: Vec<usize> = hay
+        .match_indices(&needle)
+        .map(|(byte, _)| text[..byte].chars().count())
+        .collect();
+    let chosen = if backwards {
+        starts
+            .iter()
+            .rposition(|&s| s < from)
+            .unwrap_or(starts.len().checked_sub(1)?)
+    } else {
+        starts.iter().position(|&s| s >= from).unwrap_or(0)
+    };
+    let at = *starts.get(chosen)?;
+    Some((at, starts.len(), chosen + 1))
+}
+
+/// The word under character `index`: a name, a register, or a whole `q16(…)`/`bcd(…)`.
+fn word_at(text: &str, index: usize) -> Option<String> {
+    let chars: Vec<char> = text.chars().collect();
+    let is_word = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '.';
+    if !chars
+        .get(index)
+        .copied()
+        .is_some_and(|c| is_word(c) || c == '(' || c == ')')
+    {
+        return None;
+    }
+    let mut start = index;
+    while start > 0 && is_word(chars[start - 1]) {
+        start -= 1;
+    }
+    let mut end = index;
+    while end < chars.len() && is_word(chars[end]) {
+        end += 1;
+    }
+    // Inside a literal's parentheses: widen to the call.
+    let line_start = chars[..index]
+        .iter()
+        .rposition(|&c| c == '\n')
+        .map_or(0, |i| i + 1);
+    let open = chars[line_start..=index.min(chars.len() - 1)]
+        .iter()
+        .rposition(|&c| c == '(')
+        .map(|i| line_start + i);
+    if let Some(open) = open {
+        let close = chars[open..].iter().position(|&c| c == ')' || c == '\n');
+        if let Some(close) = close
+            .map(|c| open + c)
+            .filter(|&c| chars[c] == ')' && c >= index)
+        {
+            let mut call_start = open;
+            while call_start > 0 && chars[call_start - 1].is_ascii_alphanumeric() {
+                call_start -= 1;
+            }
+            if call_start < open {
+                return Some(chars[call_start..=close].iter().collect());
+            }
+        }
+    }
+    (start < end).then(|| chars[start..end].iter().collect())
+}
+
+/// What hovering `word` in the code tells: a location's value in every format, or what a
+/// `q16(…)`/`bcd(…)` literal stores.
+pub fn hover_value(m: &dyn crate::machine::MachineView, word: &str) -> Option<String> {
+    use crate::machine::Format;
+    use crate::machine::value::parse_value;
+    let loc = m.find(word).or_else(|| {
+        m.program_names()
+            .iter()
+            .find(|(n, _)| n.eq_ignore_ascii_case(word))
+            .map(|(_, l)| *l)
+    });
+    if let Some(loc) = loc {
+        let info = m.info(loc)?;
+        let raw = m.read(loc);
+        let mut lines = vec![match info.alias {
+            Some(alias) => format!("{} ({alias})", info.name),
+            None => info.name.clone(),
+        }];
+        lines.extend(
+            Format::ALL
+                .iter()
+                .map(|f| format!("{:>8}  {}", f.name(), f.show(raw, info.width))),
+        );
+        return Some(lines.join("\n"));
+    }
+    let lower = word.to_ascii_lowercase();
+    if lower.starts_with("q16(") || lower.starts_with("bcd(") {
+        let raw = parse_value(word, 32).ok()?;
+        let mut lines = vec![format!("{word} stores")];
+        lines.extend(
+            [Format::Signed, Format::Hex, Format::Binary]
+                .iter()
+                .map(|f| format!("{:>8}  {}", f.name(), f.show(raw, 32))),
+        );
+        return Some(lines.join("\n"));
+    }
+    None
+}
+
 fn line_of_char(text: &str, char_index: usize) -> usize {
     text.chars().take(char_index).filter(|&c| c == '\n').count() + 1
 }
@@ -155,6 +336,16 @@ fn char_of_line(text: &str, line: usize) -> usize {
 
 pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &mut Vec<Command>) {
     let p = palette(ui.visuals().dark_mode);
+    for (shortcut, bar) in [(FIND, Bar::Find), (GO_TO_LINE, Bar::GoToLine)] {
+        if ui.input_mut(|i| i.consume_shortcut(&shortcut)) {
+            if view.bar != Some(bar) {
+                view.bar_text.clear();
+            }
+            view.bar = Some(bar);
+            view.bar_note = None;
+            ui.memory_mut(|m| m.request_focus(Id::unique(BAR_ID)));
+        }
+    }
     if !debugger.diagnostics().is_empty() {
         problems(ui, debugger, view);
     }
@@ -177,10 +368,13 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
             label.id
         })
         .inner;
+    if view.bar.is_some() {
+        bar(ui, debugger, view);
+    }
     if long && !view.edit_long {
-        if let Some(line) = view.pending_jump.take() {
-            view.cursor_line = Some(line);
-            view.scroll_to = Some(line);
+        if let Some(jump) = view.pending_jump.take() {
+            view.cursor_line = Some(jump.line);
+            view.scroll_to = Some(jump.line);
         }
         super::code_rows::show(ui, debugger, view, out);
         return;
@@ -197,21 +391,50 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
     let fault_line = machine.fault().map(|f| f.line);
     let text_id = Id::unique(TEXT_ID);
 
-    let jump = view.pending_jump.take();
-    if let Some(line) = jump {
-        let ctx = ui.ctx().clone();
-        if let Some(mut state) = egui::TextEdit::load_state(&ctx, text_id) {
-            let index = char_of_line(&text, line);
-            state
-                .cursor
-                .set_char_range(Some(CCursorRange::one(CCursor::new(index))));
-            state.store(&ctx, text_id);
+    // PageUp/PageDown move the caret by a screenful (the text editor itself ignores them).
+    let editor_focused = ui.memory(|m| m.has_focus(text_id));
+    if editor_focused && view.pending_jump.is_none() {
+        let page = ((view.editor_height / row_height).floor() as usize).max(1);
+        let (line, col) = line_col(&text, view.cursor_char.unwrap_or(0));
+        let (up, down) = ui.input_mut(|i| {
+            (
+                i.consume_key(egui::Modifiers::NONE, egui::Key::PageUp),
+                i.consume_key(egui::Modifiers::NONE, egui::Key::PageDown),
+            )
+        });
+        let target = if down {
+            Some((line + page).min(line_count))
+        } else if up {
+            Some(line.saturating_sub(page).max(1))
+        } else {
+            None
+        };
+        if let Some(line) = target {
+            view.pending_jump = Some(Jump { line, col, len: 0 });
         }
-        ctx.memory_mut(|m| m.request_focus(text_id));
-        view.cursor_line = Some(line);
     }
+    let jump = view.pending_jump.take();
+    if jump.is_none() && std::mem::take(&mut view.focus_again) {
+        ui.memory_mut(|m| m.request_focus(text_id));
+    }
+    if let Some(j) = jump {
+        let ctx = ui.ctx().clone();
+        let mut state = egui::TextEdit::load_state(&ctx, text_id).unwrap_or_default();
+        let index = char_of(&text, j.line, j.col);
+        state.cursor.set_char_range(Some(CCursorRange::two(
+            CCursor::new(index),
+            CCursor::new(index + j.len),
+        )));
+        state.store(&ctx, text_id);
+        ctx.memory_mut(|m| m.request_focus(text_id));
+        view.focus_again = true;
+        view.cursor_line = Some(j.line);
+        view.cursor_char = Some(index);
+    }
+    let enter_pressed =
+        editor_focused && ui.input(|i| i.key_pressed(egui::Key::Enter) && i.modifiers.is_none());
 
-    egui::ScrollArea::both()
+    let scrolled = egui::ScrollArea::both()
         .id_salt("code_scroll")
         .auto_shrink([false, false])
         .show(ui, |ui| {
@@ -257,7 +480,7 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                         })
                         .collect();
                 ui.painter().set(backgrounds, egui::Shape::Vec(fills));
-                let scroll_to = jump.or_else(|| pc_moved(view, pc_line));
+                let scroll_to = jump.map(|j| j.line).or_else(|| pc_moved(view, pc_line));
                 if let Some(rect) = scroll_to.and_then(|line| rows.rect(line)) {
                     // Two lines of margin, so the line never hides under a scroll bar.
                     // Only vertically: from the gutter's edge, so the line numbers stay in view
@@ -268,11 +491,16 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                         .expand2(vec2(0.0, 2.0 * row_height));
                     ui.scroll_to_rect(rect, None);
                 }
+                let mut caret = output.cursor_range.map(|r| r.primary.index.0);
                 if output.response.changed() {
+                    if enter_pressed && let Some(at) = caret {
+                        caret = Some(keep_indent(ui.ctx(), text_id, &mut text, at));
+                    }
                     out.push(Command::EditSource(text.clone()));
                 }
-                if let Some(range) = output.cursor_range {
-                    view.cursor_line = Some(line_of_char(&text, range.primary.index.0));
+                if let Some(at) = caret {
+                    view.cursor_line = Some(line_of_char(&text, at));
+                    view.cursor_char = Some(at);
                 }
                 if let Some(pos) = output.response.hover_pos()
                     && let Some(line) = rows.line_at(pos.y)
@@ -282,14 +510,166 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                         .filter(|d| d.line == line)
                         .map(|d| format!("{}:{}: {}", d.line, d.col, d.message))
                         .collect();
-                    if !messages.is_empty() {
-                        egui::Response::clone(&output.response)
-                            .on_hover_text_at_pointer(messages.join("\n"));
+                    let under = output
+                        .galley
+                        .cursor_from_pos(pos - output.galley_pos)
+                        .index
+                        .0;
+                    let value = word_at(&text, under)
+                        .and_then(|word| hover_value(debugger.machine(), &word));
+                    let tip: Vec<String> = messages.into_iter().chain(value).collect();
+                    if !tip.is_empty() {
+                        egui::Response::clone(&output.response).on_hover_ui_at_pointer(|ui| {
+                            ui.label(RichText::new(tip.join("\n\n")).monospace());
+                        });
                     }
                 }
                 gutter_ui(ui, debugger, gutter, &rows, pc_line, &p, &font, out);
             });
+            // Clicking below the last line puts the caret at the end, as in any editor.
+            let below = ui.available_rect_before_wrap();
+            if below.height() > 0.0
+                && ui
+                    .allocate_rect(below, Sense::click())
+                    .on_hover_cursor(egui::CursorIcon::Text)
+                    .clicked()
+            {
+                view.pending_jump = Some(Jump {
+                    line: line_count,
+                    col: usize::MAX,
+                    len: 0,
+                });
+            }
         });
+    view.editor_height = scrolled.inner_rect.height();
+}
+
+/// After Enter: the new line starts with the indentation of the line before. Returns the caret.
+fn keep_indent(ctx: &egui::Context, id: Id, text: &mut String, caret: usize) -> usize {
+    let chars: Vec<char> = text.chars().collect();
+    if caret == 0 || chars.get(caret - 1) != Some(&'\n') {
+        return caret;
+    }
+    let previous_start = chars[..caret - 1]
+        .iter()
+        .rposition(|&c| c == '\n')
+        .map_or(0, |i| i + 1);
+    let indent: String = chars[previous_start..caret - 1]
+        .iter()
+        .take_while(|c| **c == ' ' || **c == '\t')
+        .collect();
+    if indent.is_empty() {
+        return caret;
+    }
+    let byte = text
+        .char_indices()
+        .nth(caret)
+        .map_or(text.len(), |(b, _)| b);
+    text.insert_str(byte, &indent);
+    let caret = caret + indent.chars().count();
+    let mut state = egui::TextEdit::load_state(ctx, id).unwrap_or_default();
+    state
+        .cursor
+        .set_char_range(Some(CCursorRange::one(CCursor::new(caret))));
+    state.store(ctx, id);
+    caret
+}
+
+pub const BAR_ID: &str = "code_bar_field";
+
+/// The find / go-to-line bar.
+fn bar(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView) {
+    let Some(kind) = view.bar else {
+        return;
+    };
+    let p = palette(ui.visuals().dark_mode);
+    let text = debugger.source();
+    let field_id = Id::unique(BAR_ID);
+    ui.horizontal_wrapped(|ui| {
+        let label = ui.label(match kind {
+            Bar::Find => "Find in program",
+            Bar::GoToLine => "Go to line",
+        });
+        let field = ui
+            .add(
+                egui::TextEdit::singleline(&mut view.bar_text)
+                    .id(field_id)
+                    .desired_width(160.0),
+            )
+            .labelled_by(label.id);
+        let entered = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+        let shift = ui.input(|i| i.modifiers.shift);
+        if entered {
+            // The editor takes focus for the caret this same frame: it must not get this Enter.
+            ui.input_mut(|i| {
+                i.consume_key(egui::Modifiers::NONE, egui::Key::Enter);
+                i.consume_key(egui::Modifiers::SHIFT, egui::Key::Enter);
+            });
+        }
+        let escape = (field.has_focus() || field.lost_focus())
+            && ui.input(|i| i.key_pressed(egui::Key::Escape));
+        let mut search = None;
+        match kind {
+            Bar::Find => {
+                if ui.button("Next").clicked() || (entered && !shift) {
+                    search = Some(false);
+                }
+                if ui.button("Previous").clicked() || (entered && shift) {
+                    search = Some(true);
+                }
+            }
+            Bar::GoToLine => {
+                let lines = text.lines().count().max(1);
+                if ui.button("Go").clicked() || entered {
+                    match view.bar_text.trim().parse::<usize>() {
+                        Ok(line) if (1..=lines).contains(&line) => {
+                            view.pending_jump = Some(Jump::line(line));
+                            view.bar = None;
+                        }
+                        _ => {
+                            view.bar_note = Some(format!(
+                                "'{}' is not a line: 1 to {lines}",
+                                view.bar_text.trim()
+                            ))
+                        }
+                    }
+                }
+            }
+        }
+        if let Some(backwards) = search {
+            let caret = view.cursor_char.unwrap_or(0);
+            let needle_len = view.bar_text.trim().chars().count();
+            // After a match the caret sits at its end: "Previous" starts before it.
+            let from = if backwards {
+                caret.saturating_sub(needle_len)
+            } else {
+                caret + 1
+            };
+            match find_match(text, view.bar_text.trim(), from, backwards) {
+                Some((at, count, number)) => {
+                    let (line, col) = line_col(text, at);
+                    view.pending_jump = Some(Jump {
+                        line,
+                        col,
+                        len: view.bar_text.trim().chars().count(),
+                    });
+                    view.bar_note = Some(format!("{number} of {count}"));
+                }
+                None => view.bar_note = Some("not found".to_string()),
+            }
+        }
+        if let Some(note) = &view.bar_note {
+            ui.label(RichText::new(note).color(p.dim));
+        }
+        if ui
+            .small_button("Close bar")
+            .on_hover_text("Escape")
+            .clicked()
+            || escape
+        {
+            view.bar = None;
+        }
+    });
 }
 
 /// The line about to run, when it moved since the last frame: scroll it into view once.
@@ -458,7 +838,11 @@ fn problems(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView) {
                             .min_size(Vec2::ZERO),
                         );
                         if r.clicked() {
-                            view.pending_jump = Some(d.line);
+                            view.pending_jump = Some(Jump {
+                                line: d.line,
+                                col: d.col,
+                                len: 0,
+                            });
                         }
                     }
                 });

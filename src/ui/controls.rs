@@ -220,7 +220,9 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
             ui.label("Ctrl+Shift+F5 reset · Ctrl+Enter assemble");
             ui.label("Shift+F10 step back · Shift+F11 tick back · Shift+F5 reverse");
             ui.label("Ctrl+S save session · Ctrl+O open program or session");
+            ui.label("Ctrl+F find · Ctrl+G go to line · PageUp/PageDown");
             ui.label("Click the gutter to toggle a breakpoint.");
+            ui.label("Drag a panel's tab to move it; View reopens closed panels.");
         });
     });
 }

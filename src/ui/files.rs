@@ -4,6 +4,7 @@
 
 use std::path::PathBuf;
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
+use std::time::{Duration, Instant};
 
 use super::{Command, Prefs};
 
@@ -51,8 +52,17 @@ pub struct PathRequest {
     pub window_open: bool,
     pub path_text: String,
     pub error: Option<String>,
+    /// What happened to the system dialog, when the user should know ("none available").
+    pub note: Option<String>,
     pending: Option<Receiver<Option<PathBuf>>>,
+    started: Option<Instant>,
+    /// Focus the path field (all of it selected) when the window next shows.
+    focus_field: bool,
 }
+
+/// A system dialog that answers "nothing chosen" faster than this never showed: there is none
+/// (no portal, no zenity) and the user is told so.
+const NO_DIALOG_WITHIN: Duration = Duration::from_millis(400);
 
 impl PathRequest {
     fn new(purpose: Purpose) -> Self {
@@ -61,17 +71,27 @@ impl PathRequest {
             window_open: false,
             path_text: String::new(),
             error: None,
+            note: None,
             pending: None,
+            started: None,
+            focus_field: false,
         }
     }
 
     /// Show the window and start the native dialog beside it.
     pub fn start(&mut self, ctx: &egui::Context) {
+        if !self.window_open {
+            self.focus_field = true;
+        }
         self.window_open = true;
         self.error = None;
         if self.pending.is_some() {
+            self.note = Some(
+                "The system file dialog is already open (it may be behind this window).".into(),
+            );
             return;
         }
+        self.note = None;
         let (tx, rx) = channel();
         let ctx = ctx.clone();
         let purpose = self.purpose;
@@ -99,8 +119,12 @@ impl PathRequest {
                 let _ = tx.send(picked);
                 ctx.request_repaint();
             });
-        if spawned.is_ok() {
-            self.pending = Some(rx);
+        match spawned {
+            Ok(_) => {
+                self.pending = Some(rx);
+                self.started = Some(Instant::now());
+            }
+            Err(e) => self.note = Some(format!("No system file dialog ({e}): type the path.")),
         }
     }
 
@@ -112,22 +136,29 @@ impl PathRequest {
     /// dialog leaves the path field for the user.
     fn poll(&mut self) -> Option<PathBuf> {
         let rx = self.pending.as_ref()?;
-        match rx.try_recv() {
-            Ok(picked) => {
-                self.pending = None;
-                picked
-            }
-            Err(TryRecvError::Empty) => None,
-            Err(TryRecvError::Disconnected) => {
-                self.pending = None;
-                None
-            }
+        let answer = match rx.try_recv() {
+            Ok(picked) => picked,
+            Err(TryRecvError::Empty) => return None,
+            Err(TryRecvError::Disconnected) => None,
+        };
+        self.pending = None;
+        let waited = self.started.take().map_or(Duration::MAX, |t| t.elapsed());
+        self.answered(answer, waited)
+    }
+
+    /// The system dialog's answer after `waited`: a path, or nothing (cancelled, or no dialog
+    /// at all, which the user is told).
+    pub fn answered(&mut self, picked: Option<PathBuf>, waited: Duration) -> Option<PathBuf> {
+        if picked.is_none() && waited < NO_DIALOG_WITHIN {
+            self.note = Some("No system file dialog is available here: type the path.".into());
         }
+        picked
     }
 
     pub fn close(&mut self) {
         self.window_open = false;
         self.error = None;
+        self.note = None;
     }
 }
 
@@ -213,9 +244,24 @@ fn path_window(
             }
             ui.horizontal(|ui| {
                 let label = ui.label("Path");
-                let edit = ui
-                    .add(egui::TextEdit::singleline(&mut request.path_text).desired_width(360.0))
-                    .labelled_by(label.id);
+                let output = egui::TextEdit::singleline(&mut request.path_text)
+                    .desired_width(360.0)
+                    .show(ui);
+                let edit = egui::Response::clone(&output.response).labelled_by(label.id);
+                if std::mem::take(&mut request.focus_field) {
+                    // All selected: typing replaces a path left from last time, and a click
+                    // does not land in the middle of it.
+                    let mut state = output.state;
+                    let all = request.path_text.chars().count();
+                    state
+                        .cursor
+                        .set_char_range(Some(egui::text::CCursorRange::two(
+                            egui::text::CCursor::new(0),
+                            egui::text::CCursor::new(all),
+                        )));
+                    state.store(ui.ctx(), edit.id);
+                    edit.request_focus();
+                }
                 let entered = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
                 let text = request.path_text.trim();
                 if (ui.button(purpose.button()).clicked() || entered) && !text.is_empty() {
@@ -229,6 +275,9 @@ fn path_window(
                     Purpose::ExportCsv => Command::ExportDialog,
                     Purpose::SaveProgram => Command::SaveProgramDialog,
                 });
+            }
+            if let Some(note) = &request.note {
+                ui.label(note);
             }
             if let Some(error) = &request.error {
                 ui.colored_label(ui.visuals().error_fg_color, error);
@@ -278,4 +327,33 @@ pub fn file_name(path: &std::path::Path) -> String {
         || path.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_dialog_that_answers_nothing_at_once_was_never_shown() {
+        let mut request = PathRequest::new(Purpose::OpenProgram);
+        assert_eq!(request.answered(None, Duration::from_millis(20)), None);
+        assert!(
+            request
+                .note
+                .as_deref()
+                .is_some_and(|n| n.contains("No system file dialog"))
+        );
+
+        // Cancelled after a while: the user saw it, nothing to say.
+        let mut request = PathRequest::new(Purpose::OpenProgram);
+        assert_eq!(request.answered(None, Duration::from_secs(3)), None);
+        assert_eq!(request.note, None);
+
+        let picked = PathBuf::from("/tmp/x.qsl");
+        assert_eq!(
+            request.answered(Some(picked.clone()), Duration::from_millis(5)),
+            Some(picked)
+        );
+        assert_eq!(request.note, None);
+    }
 }

@@ -105,8 +105,8 @@ impl Layout {
         );
         set_shares(&mut tiles, right, &[(registers, 3.0), (bits, 2.0)]);
         // The plot is the widest thing down there.
-        let mut shares: Vec<(TileId, f32)> = beside_plot.into_iter().map(|t| (t, 2.0)).collect();
-        shares.push((plot, 3.0));
+        let mut shares: Vec<(TileId, f32)> = beside_plot.into_iter().map(|t| (t, 1.0)).collect();
+        shares.push((plot, 0.8));
         set_shares(&mut tiles, lower, &shares);
         set_shares(&mut tiles, root, &[(left, 3.0), (right, 2.0)]);
         Layout {

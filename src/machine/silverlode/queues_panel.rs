@@ -57,6 +57,13 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, height: f32) {
     }
     ui.strong(format!("Queues ({})", queues.len()));
     let access = machine.last_queue_access();
+    // One queue fits the panel whole, its ring shrunk so the header words show under it;
+    // several scroll, each at full size.
+    let ring_room = if queues.len() == 1 {
+        height - QUEUE_TEXT_HEIGHT
+    } else {
+        f32::INFINITY
+    };
     egui::ScrollArea::vertical()
         .id_salt("queues_scroll")
         .max_height((height - 24.0).max(60.0))
@@ -64,13 +71,22 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, height: f32) {
         .show(ui, |ui| {
             for q in &queues {
                 let touched = access.as_ref().filter(|a| a.base == q.base);
-                queue(ui, q, touched, &p);
+                queue(ui, q, touched, &p, ring_room);
                 ui.separator();
             }
         });
 }
 
-fn queue(ui: &mut egui::Ui, q: &QueueView, access: Option<&QueueAccess>, p: &Palette) {
+/// The title, the queue's two text lines and its header words: what the ring leaves room for.
+const QUEUE_TEXT_HEIGHT: f32 = 80.0 + HEADER_WORDS_HEIGHT;
+
+fn queue(
+    ui: &mut egui::Ui,
+    q: &QueueView,
+    access: Option<&QueueAccess>,
+    p: &Palette,
+    ring_room: f32,
+) {
     let name = format!("Queue R{}", q.base);
     let Some(h) = &q.header else {
         ui.label(
@@ -122,13 +138,34 @@ fn queue(ui: &mut egui::Ui, q: &QueueView, access: Option<&QueueAccess>, p: &Pal
         };
         ui.label(RichText::new(text).color(if a.ok { p.written } else { p.error }));
     }
-    if h.size <= MAX_RING_SLOTS {
-        ring(ui, &name, h, access, p);
+    let picture = |ui: &mut egui::Ui, ring_room: f32| {
+        if h.size <= MAX_RING_SLOTS {
+            ring(ui, &name, h, access, p, ring_room);
+        } else {
+            grid(ui, &name, h, access, p);
+        }
+    };
+    // The header decode beside the picture when the panel is wide enough, so both show at
+    // once; under it otherwise.
+    let beside_ring = ui.available_width() - HEADER_WORDS_WIDTH;
+    if beside_ring >= 2.0 * MIN_RING_RADIUS + 44.0 {
+        ui.horizontal_top(|ui| {
+            ui.allocate_ui(vec2(beside_ring, 0.0), |ui| {
+                picture(ui, ring_room + HEADER_WORDS_HEIGHT)
+            });
+            ui.vertical(|ui| header_words(ui, q, p));
+        });
     } else {
-        grid(ui, &name, h, access, p);
+        picture(ui, ring_room);
+        header_words(ui, q, p);
     }
-    header_words(ui, q, p);
 }
+
+/// The ring's radius range, and the room the header words take.
+const MAX_RING_RADIUS: f32 = 90.0;
+const MIN_RING_RADIUS: f32 = 56.0;
+const HEADER_WORDS_WIDTH: f32 = 240.0;
+const HEADER_WORDS_HEIGHT: f32 = 100.0;
 
 /// `R[base]` as size | len and `R[base+1]` as head | tail, in binary with the halves marked.
 fn header_words(ui: &mut egui::Ui, q: &QueueView, p: &Palette) {
@@ -140,41 +177,32 @@ fn header_words(ui: &mut egui::Ui, q: &QueueView, p: &Palette) {
         (q.base, q.raw[0], "size", "len"),
         (q.base + 1, q.raw[1], "head", "tail"),
     ];
+    // One half-word per row (name, value, its 16 bits): narrow enough to sit beside the ring.
     egui::Grid::new(("queue_header", q.base))
         .num_columns(3)
         .spacing([6.0, 0.0])
         .show(ui, |ui| {
             for (reg, word, hi_name, lo_name) in rows {
-                let (hi, lo) = (word >> 16, word & 0xFFFF);
-                ui.label(RichText::new(format!("R{reg}")).monospace().strong());
-                ui.label(
-                    RichText::new(format!("{hi_name} = {hi}"))
-                        .monospace()
-                        .color(p.label),
-                );
-                ui.label(
-                    RichText::new(format!("{lo_name} = {lo}"))
-                        .monospace()
-                        .color(p.number),
-                );
-                ui.end_row();
-                ui.label("");
-                ui.label(
-                    RichText::new(half(hi))
-                        .monospace()
-                        .size(11.0)
-                        .color(p.label),
-                );
-                ui.label(
-                    RichText::new(half(lo))
-                        .monospace()
-                        .size(11.0)
-                        .color(p.number),
-                );
-                ui.end_row();
+                let halves = [(hi_name, word >> 16, p.label), (lo_name, word & 0xFFFF, p.number)];
+                for (i, (name, value, colour)) in halves.into_iter().enumerate() {
+                    let bits = if i == 0 { "31–16" } else { "15–0" };
+                    ui.label(
+                        RichText::new(if i == 0 { format!("R{reg}") } else { String::new() })
+                            .monospace()
+                            .strong(),
+                    );
+                    ui.label(
+                        RichText::new(format!("{name} = {value}"))
+                            .monospace()
+                            .color(colour),
+                    );
+                    ui.label(RichText::new(half(value)).monospace().size(11.0).color(colour))
+                        .on_hover_text(format!("R{reg} bits {bits}"));
+                    ui.end_row();
+                }
             }
         });
-    ui.label(RichText::new("bits 31–16 | bits 15–0").small().color(p.dim));
+    ui.label(RichText::new("high half over low half").small().color(p.dim));
 }
 
 /// A value short enough for its slot; hovering shows it in full.
@@ -224,9 +252,17 @@ fn accessible(
     r.on_hover_text(tooltip);
 }
 
-fn ring(ui: &mut egui::Ui, name: &str, h: &QueueHeader, access: Option<&QueueAccess>, p: &Palette) {
+fn ring(
+    ui: &mut egui::Ui,
+    name: &str,
+    h: &QueueHeader,
+    access: Option<&QueueAccess>,
+    p: &Palette,
+    height: f32,
+) {
     // As big as the column allows (never drawn over its neighbour), 90 px at most.
-    let outer = ((ui.available_width() - 44.0) / 2.0).clamp(40.0, 90.0);
+    let room = ui.available_width().min(height);
+    let outer = ((room - 44.0) / 2.0).clamp(MIN_RING_RADIUS, MAX_RING_RADIUS);
     let inner = outer * 5.0 / 9.0;
     let size = Vec2::splat(2.0 * outer + 44.0);
     let (rect, _) = ui.allocate_exact_size(size, Sense::hover());
