@@ -318,8 +318,19 @@ fn a_queue_program_shows_its_ring_with_head_and_tail() {
     let mut h = harness(app_with(
         "CLD Q_INIT, 10, 40, 4\nCLD Q_PUSH_HEAD, 10, 40, 7\nCLD Q_PUSH_HEAD, 10, 40, 8\nCLD Q_POP_TAIL, 11, 40, 0\nEND",
     ));
-    h.get_by_label("Queues (0)");
+    // No queue yet: the panel gives its room to the others until there is one.
+    let queues = servoscope::ui::layout::Pane::Dialect("Queues".into());
+    let shown = |h: &Harness<'static, ServoscopeApp>| {
+        h.state()
+            .layout
+            .pane_rects()
+            .iter()
+            .any(|(p, _)| *p == queues)
+    };
+    assert!(!shown(&h));
     step_n(&mut h, 1);
+    assert!(shown(&h));
+    h.get_by_label("Queues (1)");
     h.get_by_label("Queue R40 head at slot 0");
     h.get_by_label("Queue R40 tail at slot 0");
     h.get_by_label("Queue R40 0/4 EMPTY");

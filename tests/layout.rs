@@ -52,7 +52,12 @@ fn assert_sound_layout(app: &ServoscopeApp, size: (f32, f32)) {
 #[test]
 fn no_two_panels_overlap_and_each_keeps_its_minimum_size() {
     for (w, ht) in [(900.0, 600.0), (1280.0, 800.0), (2560.0, 1440.0)] {
-        let h = harness_sized(ServoscopeApp::new(Prefs::default()), w, ht);
+        let mut h = harness_sized(ServoscopeApp::new(Prefs::default()), w, ht);
+        // Before the example makes its queue, the queue panel gives its room away.
+        assert_eq!(h.state().layout.pane_rects().len(), 5);
+        assert_sound_layout(h.state(), (w, ht));
+        h.key_press(Key::F10);
+        h.run_steps(3);
         assert_eq!(
             h.state().layout.pane_rects().len(),
             6,
@@ -64,8 +69,14 @@ fn no_two_panels_overlap_and_each_keeps_its_minimum_size() {
 
 #[test]
 fn a_larger_window_gives_the_plot_and_queues_their_share() {
-    let small = harness_sized(ServoscopeApp::new(Prefs::default()), 1280.0, 800.0);
-    let large = harness_sized(ServoscopeApp::new(Prefs::default()), 2560.0, 1440.0);
+    let sized = |w, h| {
+        let mut h = harness_sized(ServoscopeApp::new(Prefs::default()), w, h);
+        h.key_press(Key::F10);
+        h.run_steps(3);
+        h
+    };
+    let small = sized(1280.0, 800.0);
+    let large = sized(2560.0, 1440.0);
     let rect = |h: &Harness<'_, ServoscopeApp>, pane: &Pane| {
         h.state()
             .layout

@@ -204,6 +204,34 @@ impl Layout {
         }
     }
 
+    /// Hide a pane from the layout while it has nothing to show (its neighbours take the room),
+    /// without closing it: it comes back by itself.
+    pub fn show_when(&mut self, pane: &Pane, has_content: bool) {
+        let tiles = &self.tree.tiles;
+        let Some(id) = tiles.find_pane(pane) else {
+            return;
+        };
+        // A tab of its own goes with it; in a stack with others only the pane hides.
+        let target = match tiles
+            .parent_of(id)
+            .and_then(|p| Some((p, tiles.get_container(p)?)))
+        {
+            Some((parent, egui_tiles::Container::Tabs(tabs))) if tabs.children.len() == 1 => parent,
+            _ => id,
+        };
+        let tiles = &mut self.tree.tiles;
+        if has_content {
+            // Its tab may have been added (or the pane hidden) after it was hidden: show both.
+            for tile in [target, id] {
+                if !tiles.is_visible(tile) {
+                    tiles.set_visible(tile, true);
+                }
+            }
+        } else if tiles.is_visible(target) {
+            tiles.set_visible(target, false);
+        }
+    }
+
     /// Keep the timeline at `height` points (its content, plus its tab bar) when it sits in a
     /// vertical stack: its rows do not grow, so a taller window gives the room to the others.
     pub fn fit_timeline(&mut self, content_height: f32, tab_bar: f32) {

@@ -753,6 +753,11 @@ impl ServoscopeApp {
                 self.notice = None;
             }
             status::fault_banner(ui, &self.debugger);
+            for panel in &self.panels {
+                let pane = layout::Pane::Dialect(panel.title().to_string());
+                self.layout
+                    .show_when(&pane, panel.has_content(&self.debugger));
+            }
             let mut panes = layout::Panes {
                 debugger: &self.debugger,
                 code: &mut self.code,

@@ -147,7 +147,7 @@ fn queue(
     };
     // The header decode beside the picture when the panel is wide enough, so both show at
     // once; under it otherwise.
-    let beside_ring = ui.available_width() - HEADER_WORDS_WIDTH;
+    let beside_ring = ui.available_width() - header_words_width(ui);
     if beside_ring >= 2.0 * MIN_RING_RADIUS + 44.0 {
         ui.horizontal_top(|ui| {
             ui.allocate_ui(vec2(beside_ring, 0.0), |ui| {
@@ -163,8 +163,16 @@ fn queue(
 
 /// The ring's radius range, and the room the header words take.
 const MAX_RING_RADIUS: f32 = 90.0;
-const MIN_RING_RADIUS: f32 = 56.0;
-const HEADER_WORDS_WIDTH: f32 = 240.0;
+const MIN_RING_RADIUS: f32 = 46.0;
+
+/// The header words' width in this font: `R41`, `head = 65535` and 16 bits in four groups,
+/// with the grid's spacing.
+fn header_words_width(ui: &egui::Ui) -> f32 {
+    let mono = egui::TextStyle::Monospace.resolve(ui.style());
+    let small = FontId::monospace(11.0);
+    let (wide, narrow) = ui.fonts_mut(|f| (f.glyph_width(&mono, '0'), f.glyph_width(&small, '0')));
+    wide * (3.0 + 12.0) + narrow * 19.0 + 2.0 * 6.0 + 8.0
+}
 const HEADER_WORDS_HEIGHT: f32 = 100.0;
 
 /// `R[base]` as size | len and `R[base+1]` as head | tail, in binary with the halves marked.
