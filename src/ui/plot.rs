@@ -398,7 +398,9 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut PlotView, out: &m
             .show_x(false)
             .show_y(false);
         // One channel needs no legend: the axis label names it.
-        if members.len() > 1 {
+        let plot_height = if row == 0 { main_height } else { small_height };
+        // A legend in a plot this short would hide its data.
+        if members.len() > 1 && plot_height >= 80.0 {
             plot = plot.legend(Legend::default().position(egui_plot::Corner::LeftTop));
         }
         plot = if last {
