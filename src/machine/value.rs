@@ -137,6 +137,22 @@ pub fn q16(value: i64) -> String {
     }
 }
 
+/// The value read as signed Q16.16, exactly: every digit of raw / 65536 (at most 16 after
+/// the point), e.g. 1747626 → `26.6667022705078125`.
+pub fn q16_exact(value: i64) -> String {
+    let negative = value < 0;
+    let magnitude = value.unsigned_abs();
+    let whole = magnitude >> 16;
+    // 10^16 / 2^16 = 5^16: the fraction in sixteen decimal digits, exactly.
+    let fraction = u128::from(magnitude & 0xFFFF) * 5u128.pow(16);
+    let sign = if negative { "-" } else { "" };
+    if fraction == 0 {
+        return format!("{sign}{whole}");
+    }
+    let digits = format!("{fraction:016}");
+    format!("{sign}{whole}.{}", digits.trim_end_matches('0'))
+}
+
 fn chunks_from_right(text: &str, size: usize) -> Vec<String> {
     let chars: Vec<char> = text.chars().collect();
     let first = chars.len() % size;

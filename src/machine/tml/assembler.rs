@@ -1,0 +1,1003 @@
+//! TML text → [`Program`] (spec §1, §5). Every error is reported, at most one per statement
+//! (a bad character: one for its line), sorted by line and column; any error means no program.
+//!
+//! Decided where the spec is silent: a fixed literal may have at most 25 digits after its
+//! point (exact rounding needs them all, and nobody writes more).
+
+use std::collections::HashMap;
+
+use super::program::{AddKind, Cond, Data, EventSpec, Op, Operand, Program, Stmt, Ty, Value, Var};
+use super::{PREDEFINED, d};
+use crate::machine::Diagnostic;
+use crate::machine::diagnostics::Suggester;
+
+/// The statements of the subset (spec §5), reserved as names.
+pub const MNEMONICS: &[&str] = &[
+    "GOTO", "CALL", "RET", "END", "MODE", "CPR", "CPA", "TUM0", "TUM1", "UPD", "STOP", "SAP",
+    "AXISON", "AXISOFF", "BEGIN", "ENDINIT", "NOP", "SRB", "SRBL", "WAIT",
+];
+
+/// Real TML instructions outside the subset (spec §5.10).
+pub const UNSUPPORTED: &[&str] = &[
+    "CALLS", "RETI", "ABORT", "SEG", "PVTP", "PTP", "SETPT", "SETPVT", "EINT", "DINT", "HOMING",
+    "FUNCTION", "SAVE", "RESET", "FAULTR", "SEND", "STA", "EXTREF", "TIMEOUT", "SETSYNC",
+    "ENCAPI0", "ENCAPI1", "EN2CAPI0", "EN2CAPI1", "DISCAPI", "DIS2CAPI", "ENLSP0", "ENLSP1",
+    "ENLSN0", "ENLSN1", "DISLSP", "DISLSN", "ENEEPROM", "LOCKEEPROM", "INITCAM", "ENDINITCAM",
+    "SETWS", "MENU", "CHECKSUM", "SETMODE", "SGM", "RGM", "REG_ON", "REG_OFF", "STOPLOG",
+    "STARTLOG", "GETERROR", "SAVEERROR", "CLEARERROR", "INITSLAVES", "AXISID", "GROUPID",
+    "ADDGRID", "REMGRID", "CANBR", "SCIBR", "SPIBR", "SETOFFSET", "GETOFFSET", "OUT", "IN",
+];
+
+const UNSUPPORTED_EVENTS: &[&str] = &[
+    "CAP", "LSP", "LSN", "AT", "RO", "RU", "RPO", "RPU", "RMPO", "RMPU", "VO", "VU", "LSO", "LSU",
+    "MSO", "MSU", "ALPO", "ALPU", "AMPO", "AMPU", "PRT", "PVT", "PT",
+];
+
+const TYPES: &[&str] = &["INT", "LONG", "FIXED"];
+const MAX_NAME: usize = 32;
+const MAX_FIXED_DIGITS: usize = 25;
+
+#[derive(Clone, Debug, PartialEq)]
+enum Tok {
+    Ident(String),
+    /// A number as written: decimal/hex integer, or a fixed literal.
+    Int(i128),
+    Fixed(i128),
+    BadNumber(String),
+    Punct(&'static str),
+}
+
+#[derive(Clone, Debug)]
+struct Token {
+    tok: Tok,
+    col: usize,
+    len: usize,
+}
+
+struct Error {
+    col: usize,
+    len: usize,
+    message: String,
+}
+
+fn err<T>(col: usize, len: usize, message: impl Into<String>) -> Result<T, Error> {
+    Err(Error {
+        col,
+        len,
+        message: message.into(),
+    })
+}
+
+fn allowed(c: char) -> bool {
+    c.is_ascii_alphanumeric() || c.is_whitespace() || "_;:,.=+-*/<>!#()[]{}".contains(c)
+}
+
+const PUNCTS: &[&str] = &[
+    "<<=", ">>=", "+=", "-=", "/=", "<<", ">>", "=", "*", ",", "(", ")", "!", "#", "-", "[", "]",
+    "{", "}", ".", "+", "/", "<", ">", ":",
+];
+
+/// Tokens of one statement; `start` is the 1-based column of `text[0]`.
+fn lex(text: &[char], start: usize) -> Vec<Token> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < text.len() {
+        let c = text[i];
+        if c.is_whitespace() {
+            i += 1;
+            continue;
+        }
+        let col = start + i;
+        if c.is_ascii_alphabetic() || c == '_' {
+            let begin = i;
+            while i < text.len() && (text[i].is_ascii_alphanumeric() || text[i] == '_') {
+                i += 1;
+            }
+            out.push(Token {
+                tok: Tok::Ident(text[begin..i].iter().collect()),
+                col,
+                len: i - begin,
+            });
+        } else if c.is_ascii_digit() {
+            let begin = i;
+            while i < text.len() && (text[i].is_ascii_alphanumeric() || text[i] == '.' || text[i] == '_')
+            {
+                i += 1;
+            }
+            let word: String = text[begin..i].iter().collect();
+            out.push(Token {
+                tok: number(&word),
+                col,
+                len: i - begin,
+            });
+        } else {
+            let rest: String = text[i..text.len().min(i + 3)].iter().collect();
+            let p = PUNCTS
+                .iter()
+                .find(|p| rest.starts_with(**p))
+                .copied()
+                .unwrap_or(".");
+            out.push(Token {
+                tok: Tok::Punct(p),
+                col,
+                len: p.len(),
+            });
+            i += p.len();
+        }
+    }
+    out
+}
+
+/// A number token: decimal, `0x` hex, or a fixed literal (raw = round(x × 65536), ties away
+/// from zero, exact).
+fn number(word: &str) -> Tok {
+    let bad = || Tok::BadNumber(word.to_string());
+    let lower = word.to_ascii_lowercase();
+    if let Some(hex) = lower.strip_prefix("0x") {
+        if hex.is_empty() || hex.len() > 16 {
+            return bad();
+        }
+        return i128::from_str_radix(hex, 16).map_or_else(|_| bad(), Tok::Int);
+    }
+    if let Some((int, frac)) = word.split_once('.') {
+        if int.is_empty()
+            || !int.chars().all(|c| c.is_ascii_digit())
+            || !frac.chars().all(|c| c.is_ascii_digit())
+            || frac.len() > MAX_FIXED_DIGITS
+            || int.len() > 12
+        {
+            return bad();
+        }
+        let scale = 10i128.pow(frac.len() as u32);
+        let whole: i128 = int.parse().unwrap_or(0);
+        let part: i128 = if frac.is_empty() { 0 } else { frac.parse().unwrap_or(0) };
+        let num = (whole * scale + part) * 65536;
+        let (q, r) = (num / scale, num % scale);
+        let raw = if 2 * r >= scale { q + 1 } else { q };
+        return Tok::Fixed(raw);
+    }
+    if word.len() > 20 || !word.chars().all(|c| c.is_ascii_digit()) {
+        return bad();
+    }
+    word.parse().map_or_else(|_| bad(), Tok::Int)
+}
+
+/// Names the program and the drive define, while the program is read.
+struct Names<'a> {
+    vars: Vec<Var>,
+    var_index: HashMap<String, u16>,
+    labels: &'a HashMap<String, (u32, usize)>,
+    used: Vec<u8>,
+    used_inputs: Vec<u8>,
+    uses_preg: bool,
+    suggester: Suggester,
+}
+
+fn predefined(name: &str) -> Option<u8> {
+    PREDEFINED
+        .iter()
+        .position(|p| {
+            p.name.eq_ignore_ascii_case(name) || p.alias.is_some_and(|a| a.eq_ignore_ascii_case(name))
+        })
+        .map(|i| i as u8)
+}
+
+fn reserved(upper: &str) -> bool {
+    predefined(upper).is_some()
+        || upper == "PREG"
+        || TYPES.contains(&upper)
+        || MNEMONICS.contains(&upper)
+        || UNSUPPORTED.contains(&upper)
+}
+
+impl Names<'_> {
+    fn suggestion(&self, word: &str) -> String {
+        let candidates = PREDEFINED
+            .iter()
+            .map(|p| p.name)
+            .chain(self.vars.iter().map(|v| v.name.as_str()));
+        match self.suggester.suggest(word, candidates) {
+            Some(s) => format!(" (did you mean '{s}'?)"),
+            None => String::new(),
+        }
+    }
+
+    /// A datum by name, at `t` (with `(H)`/`(L)` following it in `ts`).
+    fn operand(&mut self, ts: &[Token], at: &mut usize) -> Result<Operand, Error> {
+        let t = &ts[*at];
+        let Tok::Ident(name) = &t.tok else {
+            return err(t.col, t.len, "expected a variable or TML data name");
+        };
+        let upper = name.to_ascii_uppercase();
+        let (data, ty) = if let Some(i) = predefined(name) {
+            if !self.used.contains(&i) {
+                self.used.push(i);
+            }
+            (Data::Pre(i), PREDEFINED[i as usize].ty)
+        } else if let Some(&v) = self.var_index.get(&upper) {
+            (Data::Var(v), self.vars[v as usize].ty)
+        } else if upper == "PREG" {
+            return err(
+                t.col,
+                t.len,
+                "PREG is not a TML name: read it through PROD (bits 31..0) and PRODH (47..16)",
+            );
+        } else if self.labels.contains_key(&upper) {
+            return err(
+                t.col,
+                t.len,
+                format!("'{name}' is a label: addresses of labels are not supported by servoscope yet"),
+            );
+        } else {
+            let hint = self.suggestion(name);
+            return err(t.col, t.len, format!("undeclared variable '{name}'{hint}"));
+        };
+        *at += 1;
+        let mut op = Operand {
+            data,
+            half: None,
+            ty,
+        };
+        if punct(ts, *at, "(") {
+            let (which, col) = match ts.get(*at + 1) {
+                Some(Token {
+                    tok: Tok::Ident(w),
+                    col,
+                    ..
+                }) => (w.to_ascii_uppercase(), *col),
+                other => {
+                    let col = other.map_or(t.col, |o| o.col);
+                    return err(col, 1, "expected H or L inside the parentheses");
+                }
+            };
+            if !punct(ts, *at + 2, ")") {
+                return err(col, 1, "expected ')'");
+            }
+            let high = match which.as_str() {
+                "H" => true,
+                "L" => false,
+                _ => return err(col, which.len(), "expected H or L inside the parentheses"),
+            };
+            if data == Data::Pre(d::PROD) && high {
+                // `PROD(H)` is the vendor's spelling of PRODH.
+                op = Operand {
+                    data: Data::Pre(d::PRODH),
+                    half: None,
+                    ty: Ty::Long,
+                };
+                if !self.used.contains(&d::PRODH) {
+                    self.used.push(d::PRODH);
+                }
+            } else if matches!(data, Data::Pre(d::PROD) | Data::Pre(d::PRODH)) {
+                return err(t.col, t.len, "PROD and PRODH have no other halves (PROD(H) is PRODH)");
+            } else if ty.bits() != 32 {
+                return err(t.col, t.len, format!("'{name}' is 16-bit: only 32-bit data have (H) and (L) halves"));
+            } else {
+                op.half = Some(high);
+                op.ty = Ty::Int;
+            }
+            *at += 3;
+        }
+        if matches!(op.data, Data::Pre(d::PROD) | Data::Pre(d::PRODH)) {
+            self.uses_preg = true;
+        }
+        Ok(op)
+    }
+}
+
+fn punct(ts: &[Token], at: usize, p: &str) -> bool {
+    matches!(ts.get(at), Some(Token { tok: Tok::Punct(q), .. }) if *q == p)
+}
+
+fn writable(op: &Operand) -> bool {
+    match op.data {
+        Data::Pre(i) => PREDEFINED[i as usize].writable,
+        Data::Var(_) => true,
+    }
+}
+
+fn datum_name(op: &Operand, names: &Names) -> String {
+    let base = match op.data {
+        Data::Pre(i) => PREDEFINED[i as usize].name.to_string(),
+        Data::Var(v) => names.vars[v as usize].name.clone(),
+    };
+    match op.half {
+        Some(true) => format!("{base}(H)"),
+        Some(false) => format!("{base}(L)"),
+        None => base,
+    }
+}
+
+/// A possibly negative number at `at`: (value, is fixed literal, col, len).
+fn signed_number(ts: &[Token], at: &mut usize) -> Option<Result<(i128, bool, usize, usize), Error>> {
+    let start = *at;
+    let negative = punct(ts, *at, "-");
+    let i = *at + usize::from(negative);
+    let t = ts.get(i)?;
+    let (v, fixed) = match &t.tok {
+        Tok::Int(v) => (*v, false),
+        Tok::Fixed(v) => (*v, true),
+        Tok::BadNumber(w) => {
+            return Some(err(t.col, t.len, format!("malformed number '{w}'")));
+        }
+        _ => return None,
+    };
+    *at = i + 1;
+    let col = ts[start].col;
+    Some(Ok((if negative { -v } else { v }, fixed, col, t.col + t.len - col)))
+}
+
+fn shift_count(ts: &[Token], at: &mut usize) -> Result<u8, Error> {
+    match signed_number(ts, at) {
+        Some(Ok((n, false, _, _))) if (0..=15).contains(&n) => Ok(n as u8),
+        Some(Ok((_, _, col, len))) => err(col, len, "shift count outside 0..15"),
+        Some(Err(e)) => Err(e),
+        None => {
+            let (col, len) = ts.get(*at).map_or((0, 1), |t| (t.col, t.len));
+            err(col, len, "expected a shift count 0..15")
+        }
+    }
+}
+
+/// An immediate for a destination of type `dst` (spec §1: imm16, imm32, immF), as the raw
+/// value the statement stores or adds.
+fn immediate(v: i128, fixed_literal: bool, dst: &Operand, col: usize, len: usize) -> Result<i64, Error> {
+    if dst.is_fixed() {
+        if fixed_literal {
+            if !(i128::from(i32::MIN)..=i128::from(i32::MAX)).contains(&v) {
+                return err(col, len, "fixed value out of range (−32768.0 .. 32767.99998)");
+            }
+            return Ok(v as i64);
+        }
+        if !(-32768..=32767).contains(&v) {
+            return err(col, len, "a whole number for a fixed datum must be in −32768..32767 (write it as a fixed literal, e.g. 1.5)");
+        }
+        return Ok((v * 65536) as i64);
+    }
+    if fixed_literal {
+        return err(col, len, "a fixed literal needs a fixed destination");
+    }
+    if dst.bits() == 16 {
+        if !(-32768..=65535).contains(&v) {
+            return err(col, len, "16-bit value out of range (−32768..65535)");
+        }
+        return Ok(i64::from(v as u16 as i16));
+    }
+    if !(i128::from(i32::MIN)..=i128::from(u32::MAX)).contains(&v) {
+        return err(col, len, "32-bit value out of range (−2147483648..4294967295)");
+    }
+    Ok(i64::from(v as u32 as i32))
+}
+
+fn expect_end(ts: &[Token], at: usize) -> Result<(), Error> {
+    match ts.get(at) {
+        None => Ok(()),
+        Some(t) => err(t.col, t.len, "unexpected text: expected ';'"),
+    }
+}
+
+fn not_supported<T>(t: &Token, what: &str) -> Result<T, Error> {
+    err(t.col, t.len, format!("{what} is not supported by servoscope yet"))
+}
+
+fn label_target(ts: &[Token], at: &mut usize, names: &Names) -> Result<u32, Error> {
+    let Some(t) = ts.get(*at) else {
+        let col = ts.last().map_or(1, |t| t.col + t.len);
+        return err(col, 1, "expected a label");
+    };
+    match &t.tok {
+        Tok::Ident(name) => match names.labels.get(&name.to_ascii_uppercase()) {
+            Some(&(target, _)) => {
+                *at += 1;
+                Ok(target)
+            }
+            None if names.var_index.contains_key(&name.to_ascii_uppercase())
+                || predefined(name).is_some() =>
+            {
+                not_supported(t, "a jump to an address held in a variable")
+            }
+            None => {
+                let hint = names
+                    .suggester
+                    .suggest(name, names.labels.keys().map(String::as_str))
+                    .map(|s| format!(" (did you mean '{}'?)", s.to_ascii_lowercase()))
+                    .unwrap_or_default();
+                err(t.col, t.len, format!("undefined label '{name}'{hint}"))
+            }
+        },
+        Tok::Int(_) => not_supported(t, "a jump to a numeric address"),
+        _ => err(t.col, t.len, "expected a label"),
+    }
+}
+
+/// A readable V16 or imm16 operand (multiply's right side).
+fn value16(ts: &[Token], at: &mut usize, names: &mut Names) -> Result<Value, Error> {
+    if let Some(n) = signed_number(ts, at) {
+        let (v, fixed, col, len) = n?;
+        if fixed {
+            return err(col, len, "a fixed literal needs a fixed destination");
+        }
+        if !(-32768..=65535).contains(&v) {
+            return err(col, len, "16-bit value out of range (−32768..65535)");
+        }
+        return Ok(Value::Imm(i64::from(v as u16 as i16)));
+    }
+    if *at >= ts.len() {
+        let col = ts.last().map_or(1, |t| t.col + t.len);
+        return err(col, 1, "expected a value");
+    }
+    let t = ts[*at].clone();
+    let op = names.operand(ts, at)?;
+    if op.bits() != 16 {
+        return err(t.col, t.len, "16/32-bit width mismatch: a 16-bit operand is needed here (use X(L) or X(H))");
+    }
+    Ok(Value::Var(op))
+}
+
+/// A readable imm32 or V32 operand (SAP, !RT).
+fn value32(ts: &[Token], at: &mut usize, names: &mut Names) -> Result<Value, Error> {
+    if let Some(n) = signed_number(ts, at) {
+        let (v, fixed, col, len) = n?;
+        if fixed {
+            return err(col, len, "a fixed literal needs a fixed destination");
+        }
+        if !(i128::from(i32::MIN)..=i128::from(u32::MAX)).contains(&v) {
+            return err(col, len, "32-bit value out of range (−2147483648..4294967295)");
+        }
+        return Ok(Value::Imm(i64::from(v as u32 as i32)));
+    }
+    if *at >= ts.len() {
+        let col = ts.last().map_or(1, |t| t.col + t.len);
+        return err(col, 1, "expected a value");
+    }
+    let t = ts[*at].clone();
+    let op = names.operand(ts, at)?;
+    if op.bits() != 32 {
+        return err(t.col, t.len, "16/32-bit width mismatch: a 32-bit operand is needed here");
+    }
+    Ok(Value::Var(op))
+}
+
+/// One statement (without its `;`).
+fn statement(ts: &[Token], names: &mut Names, line: usize) -> Result<Option<Op>, Error> {
+    let first = &ts[0];
+    match &first.tok {
+        Tok::Punct("!") => return event(ts, names).map(Some),
+        Tok::Punct("[") | Tok::Punct("{") => return not_supported(first, "a multi-axis statement"),
+        Tok::Punct("(") => return not_supported(first, "addressing through a variable ((var),dm)"),
+        Tok::Ident(word) => {
+            let upper = word.to_ascii_uppercase();
+            if TYPES.contains(&upper.as_str()) {
+                declare(ts, names, line, &upper)?;
+                return Ok(None);
+            }
+            let next_is_operator = matches!(ts.get(1), Some(Token { tok: Tok::Punct(p), .. }) if ["=", "+=", "-=", "/=", "<<=", ">>=", "<<", ">>", "*", "(", ","].contains(p));
+            if UNSUPPORTED.contains(&upper.as_str()) && !names.var_index.contains_key(&upper) {
+                return not_supported(first, &format!("the TML instruction {upper}"));
+            }
+            if MNEMONICS.contains(&upper.as_str()) {
+                return mnemonic(ts, names, &upper).map(Some);
+            }
+            if !next_is_operator && predefined(word).is_none() && !names.var_index.contains_key(&upper) {
+                let candidates = MNEMONICS.iter().copied().chain(UNSUPPORTED.iter().copied());
+                if ts.len() == 1 || matches!(ts.get(1), Some(Token { tok: Tok::Ident(_) | Tok::Int(_), .. })) {
+                    let hint = names
+                        .suggester
+                        .suggest(word, candidates)
+                        .map(|s| format!(" (did you mean '{s}'?)"))
+                        .unwrap_or_default();
+                    return err(first.col, first.len, format!("unknown instruction '{word}'{hint}"));
+                }
+            }
+        }
+        _ => return err(first.col, first.len, "expected a statement"),
+    }
+    // An expression statement: it starts with a datum.
+    let mut at = 0;
+    let lhs_tok = ts[0].clone();
+    let lhs = names.operand(ts, &mut at)?;
+    let Some(op_tok) = ts.get(at).cloned() else {
+        return err(lhs_tok.col, lhs_tok.len, "expected an operator after the name (=, +=, -=, *, /=, <<, >>)");
+    };
+    let Tok::Punct(op) = op_tok.tok else {
+        return err(op_tok.col, op_tok.len, "expected an operator (=, +=, -=, *, /=, <<, >>)");
+    };
+    at += 1;
+    let is_prod = lhs.data == Data::Pre(d::PROD) && lhs.half.is_none();
+    let check_writable = |names: &Names| -> Result<(), Error> {
+        if writable(&lhs) {
+            Ok(())
+        } else {
+            err(lhs_tok.col, lhs_tok.len, format!("{} is read-only", datum_name(&lhs, names)))
+        }
+    };
+    let result = match op {
+        "," => return not_supported(&op_tok, "the address form X,dm"),
+        "=" => {
+            check_writable(names)?;
+            assignment(ts, &mut at, names, lhs, &lhs_tok)?
+        }
+        "+=" | "-=" => {
+            check_writable(names)?;
+            let subtract = op == "-=";
+            let (src, kind) = if let Some(n) = signed_number(ts, &mut at) {
+                let (v, fixed, col, len) = n?;
+                let v = if lhs.bits() == 32 && !lhs.is_fixed() && !fixed {
+                    // An immediate added to a long is 32-bit (spec §8).
+                    immediate(v, false, &lhs, col, len)?
+                } else {
+                    immediate(v, fixed, &lhs, col, len)?
+                };
+                (Value::Imm(v), AddKind::Plain)
+            } else {
+                if at >= ts.len() {
+                    return err(op_tok.col + op_tok.len, 1, "expected a value");
+                }
+                let t = ts[at].clone();
+                let r = names.operand(ts, &mut at)?;
+                let kind = match (lhs.bits(), r.bits()) {
+                    (16, 32) => {
+                        return err(t.col, t.len, "16/32-bit width mismatch: a 32-bit value cannot be added to 16-bit data (use X(L) or X(H))");
+                    }
+                    (32, 16) if lhs.is_fixed() => AddKind::IntegerPart,
+                    _ => AddKind::Plain,
+                };
+                (Value::Var(r), kind)
+            };
+            Op::Add {
+                dst: lhs,
+                src,
+                kind,
+                subtract,
+            }
+        }
+        "/=" => {
+            check_writable(names)?;
+            if lhs.bits() != 32 {
+                return err(lhs_tok.col, lhs_tok.len, "the dividend must be 32-bit (long or fixed)");
+            }
+            if let Some(Ok((_, _, col, len))) = signed_number(ts, &mut at.clone()) {
+                return err(col, len, "the divisor must be a 16-bit datum, not an immediate");
+            }
+            if at >= ts.len() {
+                return err(op_tok.col + op_tok.len, 1, "expected a divisor");
+            }
+            let t = ts[at].clone();
+            let r = names.operand(ts, &mut at)?;
+            if r.bits() != 16 {
+                return err(t.col, t.len, "16/32-bit width mismatch: the divisor must be 16-bit");
+            }
+            Op::Divide(lhs, r)
+        }
+        "<<=" | ">>=" | "<<" | ">>" => {
+            let left = op.starts_with('<');
+            let n = shift_count(ts, &mut at)?;
+            if is_prod {
+                names.uses_preg = true;
+                Op::ShiftProduct { left, n }
+            } else {
+                check_writable(names)?;
+                Op::Shift { dst: lhs, left, n }
+            }
+        }
+        "*" => {
+            let b = value16(ts, &mut at, names)?;
+            let (left, n) = if punct(ts, at, "<<") || punct(ts, at, ">>") {
+                let left = punct(ts, at, "<<");
+                at += 1;
+                (left, shift_count(ts, &mut at)?)
+            } else {
+                (true, 0)
+            };
+            names.uses_preg = true;
+            Op::Multiply { a: lhs, b, left, n }
+        }
+        _ => return err(op_tok.col, op_tok.len, format!("unexpected '{op}': expected =, +=, -=, *, /=, << or >>")),
+    };
+    expect_end(ts, at)?;
+    Ok(Some(result))
+}
+
+fn assignment(ts: &[Token], at: &mut usize, names: &mut Names, lhs: Operand, lhs_tok: &Token) -> Result<Op, Error> {
+    if let Some(n) = signed_number(ts, at) {
+        let (v, fixed, col, len) = n?;
+        return Ok(Op::Assign(lhs, Value::Imm(immediate(v, fixed, &lhs, col, len)?)));
+    }
+    let negate = punct(ts, *at, "-");
+    if negate {
+        *at += 1;
+    }
+    let Some(t) = ts.get(*at).cloned() else {
+        return err(lhs_tok.col, lhs_tok.len, "expected a value after '='");
+    };
+    if let Tok::Ident(name) = &t.tok
+        && names.labels.contains_key(&name.to_ascii_uppercase())
+        && !names.var_index.contains_key(&name.to_ascii_uppercase())
+    {
+        return not_supported(&t, "the address of a label (var = label)");
+    }
+    let src = names.operand(ts, at)?;
+    if src.bits() != lhs.bits() {
+        return err(t.col, t.len, format!(
+            "16/32-bit width mismatch: {} is {}-bit, {} is {}-bit (use X(L) or X(H))",
+            datum_name(&lhs, names), lhs.bits(), datum_name(&src, names), src.bits()
+        ));
+    }
+    if negate {
+        return Ok(Op::Negate(lhs, src));
+    }
+    if punct(ts, *at, "<<") || punct(ts, *at, ">>") {
+        let left = punct(ts, *at, "<<");
+        *at += 1;
+        let n = shift_count(ts, at)?;
+        return Ok(Op::AssignShift { dst: lhs, src, left, n });
+    }
+    Ok(Op::Assign(lhs, Value::Var(src)))
+}
+
+fn declare(ts: &[Token], names: &mut Names, line: usize, ty_word: &str) -> Result<(), Error> {
+    let ty = match ty_word {
+        "INT" => Ty::Int,
+        "LONG" => Ty::Long,
+        _ => Ty::Fixed,
+    };
+    let mut at = 1;
+    loop {
+        let Some(t) = ts.get(at) else {
+            let col = ts.last().map_or(1, |t| t.col + t.len);
+            return err(col, 1, "expected a variable name");
+        };
+        let Tok::Ident(name) = &t.tok else {
+            return err(t.col, t.len, "expected a variable name");
+        };
+        let upper = name.to_ascii_uppercase();
+        if name.len() > MAX_NAME {
+            return err(t.col, t.len, format!("name longer than {MAX_NAME} characters"));
+        }
+        if reserved(&upper) {
+            return err(t.col, t.len, format!("'{name}' is a TML name and cannot be a variable"));
+        }
+        if names.var_index.contains_key(&upper) {
+            return err(t.col, t.len, format!("duplicate variable '{name}'"));
+        }
+        if names.labels.contains_key(&upper) {
+            return err(t.col, t.len, format!("'{name}' is already a label"));
+        }
+        let index = names.vars.len() as u16;
+        names.var_index.insert(upper, index);
+        names.vars.push(Var {
+            name: name.clone(),
+            ty,
+            line,
+        });
+        at += 1;
+        match ts.get(at) {
+            None => return Ok(()),
+            Some(t) if t.tok == Tok::Punct(",") => at += 1,
+            Some(t) => return err(t.col, t.len, "expected ',' or ';'"),
+        }
+    }
+}
+
+fn mnemonic(ts: &[Token], names: &mut Names, upper: &str) -> Result<Op, Error> {
+    let mut at = 1;
+    let first = &ts[0];
+    let op = match upper {
+        "GOTO" | "CALL" => {
+            let target = label_target(ts, &mut at, names)?;
+            let cond = if punct(ts, at, ",") {
+                at += 1;
+                if at >= ts.len() {
+                    return err(ts[at - 1].col + 1, 1, "expected a variable to test");
+                }
+                let x = names.operand(ts, &mut at)?;
+                if !punct(ts, at, ",") {
+                    let (col, len) = ts.get(at).map_or((ts[at - 1].col + ts[at - 1].len, 1), |t| (t.col, t.len));
+                    return err(col, len, "expected ', condition' (EQ, NEQ, LT, LEQ, GT, GEQ)");
+                }
+                at += 1;
+                let Some(Token { tok: Tok::Ident(c), col, len }) = ts.get(at) else {
+                    let col = ts.get(at).map_or(ts[at - 1].col + 1, |t| t.col);
+                    return err(col, 1, "expected a condition: EQ, NEQ, LT, LEQ, GT or GEQ");
+                };
+                let Some(c) = Cond::parse(c) else {
+                    return err(*col, *len, format!("unknown condition '{c}': EQ, NEQ, LT, LEQ, GT or GEQ"));
+                };
+                at += 1;
+                Some((x, c))
+            } else {
+                None
+            };
+            Op::Jump {
+                target,
+                call: upper == "CALL",
+                cond,
+            }
+        }
+        "RET" => Op::Ret,
+        "END" => Op::End,
+        "MODE" => match ts.get(1) {
+            Some(Token { tok: Tok::Ident(m), .. }) if m.eq_ignore_ascii_case("PP") => {
+                at = 2;
+                Op::ModePp
+            }
+            Some(t) => return not_supported(t, &format!("MODE {}", token_text(t))),
+            None => return err(first.col + first.len, 1, "expected a mode: PP"),
+        },
+        "CPR" => Op::Relative(true),
+        "CPA" => Op::Relative(false),
+        "TUM0" => Op::Tum(false),
+        "TUM1" => Op::Tum(true),
+        "UPD" | "STOP" if punct(ts, 1, "!") => return not_supported(first, &format!("{upper}!")),
+        "UPD" => Op::Upd,
+        "STOP" => Op::Stop,
+        "SAP" => Op::Sap(value32(ts, &mut at, names)?),
+        "AXISON" => Op::Axis(true),
+        "AXISOFF" => Op::Axis(false),
+        "BEGIN" | "ENDINIT" | "NOP" => Op::Nop,
+        "SRB" | "SRBL" => {
+            let t = ts.get(1).cloned().ok_or(Error { col: first.col + first.len, len: 1, message: "expected a 16-bit datum".into() })?;
+            let dst = names.operand(ts, &mut at)?;
+            if dst.bits() != 16 {
+                return err(t.col, t.len, format!("{upper} works on 16-bit data; {} is 32-bit (use X(L) or X(H))", datum_name(&dst, names)));
+            }
+            if !writable(&dst) {
+                return err(t.col, t.len, format!("{} is read-only", datum_name(&dst, names)));
+            }
+            let mut masks = [0u16; 2];
+            for mask in &mut masks {
+                if !punct(ts, at, ",") {
+                    let col = ts.get(at).map_or(ts[at - 1].col + ts[at - 1].len, |t| t.col);
+                    return err(col, 1, "expected ', mask' (SRB X, andmask, ormask)");
+                }
+                at += 1;
+                match signed_number(ts, &mut at) {
+                    Some(Ok((v, false, _, _))) if (-32768..=65535).contains(&v) => *mask = v as u16,
+                    Some(Ok((_, _, col, len))) => return err(col, len, "a mask is a 16-bit number (−32768..65535)"),
+                    Some(Err(e)) => return Err(e),
+                    None => {
+                        let col = ts.get(at).map_or(ts[at - 1].col + 1, |t| t.col);
+                        return err(col, 1, "expected a 16-bit mask");
+                    }
+                }
+            }
+            Op::Srb { dst, and: masks[0], or: masks[1] }
+        }
+        "WAIT" => {
+            if !punct(ts, 1, "!") {
+                return err(first.col, first.len, "expected WAIT! (WAIT with '!')");
+            }
+            at = 2;
+            let limit = match signed_number(ts, &mut at) {
+                None => None,
+                Some(Ok((v, false, _, _))) if (0..=65535).contains(&v) => Some(v as u16),
+                Some(Ok((_, _, col, len))) => return err(col, len, "a WAIT! time-out is a number of ticks 0..65535"),
+                Some(Err(e)) => return Err(e),
+            };
+            Op::Wait(limit)
+        }
+        _ => return err(first.col, first.len, format!("unknown instruction '{upper}'")),
+    };
+    expect_end(ts, at)?;
+    Ok(op)
+}
+
+fn token_text(t: &Token) -> String {
+    match &t.tok {
+        Tok::Ident(s) | Tok::BadNumber(s) => s.clone(),
+        Tok::Int(v) | Tok::Fixed(v) => v.to_string(),
+        Tok::Punct(p) => (*p).to_string(),
+    }
+}
+
+fn event(ts: &[Token], names: &mut Names) -> Result<Op, Error> {
+    let Some(t) = ts.get(1) else {
+        return err(ts[0].col, 1, "expected an event after '!': MC, RT or IN#n");
+    };
+    let Tok::Ident(word) = &t.tok else {
+        return err(t.col, t.len, "expected an event after '!': MC, RT or IN#n");
+    };
+    let upper = word.to_ascii_uppercase();
+    let mut at = 2;
+    let spec = match upper.as_str() {
+        "MC" => EventSpec::MotionComplete,
+        "RT" => EventSpec::Time(value32(ts, &mut at, names)?),
+        "IN" => {
+            if !punct(ts, 2, "#") {
+                return err(t.col, t.len, "expected IN#n (an input 0..15)");
+            }
+            at = 3;
+            let n = match signed_number(ts, &mut at) {
+                Some(Ok((n, false, _, _))) if (0..=15).contains(&n) => n as u8,
+                Some(Ok((_, _, col, len))) => return err(col, len, "inputs are IN#0..IN#15"),
+                Some(Err(e)) => return Err(e),
+                None => return err(t.col, t.len, "expected IN#n (an input 0..15)"),
+            };
+            let level = match signed_number(ts, &mut at) {
+                Some(Ok((0, false, _, _))) => false,
+                Some(Ok((1, false, _, _))) => true,
+                Some(Ok((_, _, col, len))) => return err(col, len, "an input event waits for level 0 or 1"),
+                Some(Err(e)) => return Err(e),
+                None => {
+                    let col = ts.last().map_or(t.col, |l| l.col + l.len);
+                    return err(col, 1, "expected the level to wait for: 0 or 1");
+                }
+            };
+            if !names.used_inputs.contains(&n) {
+                names.used_inputs.push(n);
+            }
+            EventSpec::Input(n, level)
+        }
+        _ if UNSUPPORTED_EVENTS.contains(&upper.as_str()) => {
+            return not_supported(t, &format!("the event !{upper}"));
+        }
+        _ => return err(t.col, t.len, format!("unknown event '!{word}': !MC, !RT t or !IN#n 0|1")),
+    };
+    expect_end(ts, at)?;
+    Ok(Op::SetEvent(spec))
+}
+
+/// Assemble TML text.
+pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
+    let text = crate::text::normalize(source);
+    let lines: Vec<Vec<char>> = text.lines().map(|l| l.chars().collect()).collect();
+    let mut errors: Vec<Diagnostic> = Vec::new();
+
+    // Pass 1: where each line's statements begin (comments and labels taken off), and labels.
+    struct Line {
+        /// (statement chars, column of its first char)
+        body: Vec<char>,
+        body_col: usize,
+    }
+    let mut bodies = Vec::with_capacity(lines.len());
+    let mut labels: HashMap<String, (u32, usize)> = HashMap::new();
+    let mut label_list = Vec::new();
+    let mut stmt_count_before: Vec<u32> = Vec::with_capacity(lines.len());
+    let mut count: u32 = 0;
+    for (i, chars) in lines.iter().enumerate() {
+        let line_no = i + 1;
+        let mut end = chars.len();
+        for k in 0..chars.len().saturating_sub(1) {
+            if chars[k] == '/' && chars[k + 1] == '/' {
+                end = k;
+                break;
+            }
+        }
+        let code = &chars[..end];
+        stmt_count_before.push(count);
+        if let Some(k) = code.iter().position(|&c| !allowed(c)) {
+            errors.push(Diagnostic::error(line_no, k + 1, 1, format!("unexpected character '{}'", code[k].escape_default())));
+            bodies.push(None);
+            continue;
+        }
+        let mut body_col = 1;
+        let mut body: &[char] = code;
+        // A label: a name and ':' at column 1.
+        if let Some(colon) = code.iter().position(|&c| c == ':') {
+            let before: String = code[..colon].iter().collect();
+            let name = before.trim();
+            let valid = !name.is_empty()
+                && name.chars().next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+                && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+            if !valid {
+                let col = code.iter().position(|c| !c.is_whitespace()).unwrap_or(colon) + 1;
+                errors.push(Diagnostic::error(line_no, col, colon + 2 - col, "expected a label name before ':'"));
+                bodies.push(None);
+                continue;
+            }
+            let indent = code.iter().take_while(|c| c.is_whitespace()).count();
+            if indent > 0 {
+                errors.push(Diagnostic::error(line_no, indent + 1, name.len(), format!("label '{name}' must start in column 1")));
+                bodies.push(None);
+                continue;
+            }
+            let upper = name.to_ascii_uppercase();
+            if name.len() > MAX_NAME {
+                errors.push(Diagnostic::error(line_no, 1, name.len(), format!("name longer than {MAX_NAME} characters")));
+            } else if reserved(&upper) {
+                errors.push(Diagnostic::error(line_no, 1, name.len(), format!("'{name}' is a TML name and cannot be a label")));
+            } else if let Some(&(_, first)) = labels.get(&upper) {
+                errors.push(Diagnostic::error(line_no, 1, name.len(), format!("duplicate label '{name}' (first on line {first})")));
+            } else {
+                // Its statement index is fixed once this line's statements are counted.
+                labels.insert(upper, (u32::MAX, line_no));
+                label_list.push((name.to_string(), line_no));
+            }
+            body = &code[colon + 1..];
+            body_col = colon + 2;
+        }
+        let statements = body.iter().filter(|&&c| c == ';').count();
+        // Statements that are empty (`;;`) are not counted.
+        let mut nonempty = 0;
+        let mut start = 0;
+        for (k, &c) in body.iter().enumerate() {
+            if c == ';' {
+                if body[start..k].iter().any(|c| !c.is_whitespace()) {
+                    nonempty += 1;
+                }
+                start = k + 1;
+            }
+        }
+        let _ = statements;
+        count += nonempty;
+        bodies.push(Some(Line {
+            body: body.to_vec(),
+            body_col,
+        }));
+    }
+    // Labels point at the first statement at or after their line.
+    for (name, line_no) in &label_list {
+        let index = stmt_count_before[*line_no - 1];
+        if let Some(entry) = labels.get_mut(&name.to_ascii_uppercase()) {
+            entry.0 = index;
+        }
+    }
+
+    // Pass 2: the statements, in order (variables are declared before use).
+    let mut names = Names {
+        vars: Vec::new(),
+        var_index: HashMap::new(),
+        labels: &labels,
+        used: Vec::new(),
+        used_inputs: Vec::new(),
+        uses_preg: false,
+        suggester: Suggester::default(),
+    };
+    let mut stmts = Vec::new();
+    for (i, line) in bodies.iter().enumerate() {
+        let Some(line) = line else { continue };
+        let line_no = i + 1;
+        let mut start = 0;
+        for (k, &c) in line.body.iter().enumerate() {
+            if c != ';' {
+                continue;
+            }
+            let seg = &line.body[start..k];
+            let seg_col = line.body_col + start;
+            start = k + 1;
+            if seg.iter().all(|c| c.is_whitespace()) {
+                continue;
+            }
+            let ts = lex(seg, seg_col);
+            let lead = seg.iter().take_while(|c| c.is_whitespace()).count();
+            match statement(&ts, &mut names, line_no) {
+                Ok(Some(op)) => stmts.push(Stmt {
+                    op,
+                    line: line_no,
+                    col: seg_col + lead,
+                    text: seg.iter().collect::<String>().trim().to_string(),
+                }),
+                Ok(None) => {}
+                Err(e) => errors.push(Diagnostic::error(line_no, e.col.max(1), e.len, e.message)),
+            }
+        }
+        let rest = &line.body[start..];
+        if let Some(k) = rest.iter().position(|c| !c.is_whitespace()) {
+            let trailing = rest.len() - rest.iter().rev().take_while(|c| c.is_whitespace()).count();
+            let col = line.body_col + start + trailing;
+            let _ = k;
+            errors.push(Diagnostic::error(line_no, col, 1, "expected ';' at the end of the statement"));
+        }
+    }
+    if !errors.is_empty() {
+        errors.sort_by_key(|e| (e.line, e.col));
+        return Err(errors);
+    }
+    let mut labels: Vec<(String, u32)> = label_list
+        .iter()
+        .map(|(name, _)| (name.clone(), names.labels[&name.to_ascii_uppercase()].0))
+        .collect();
+    labels.sort_by_key(|(_, at)| *at);
+    let mut used = names.used;
+    used.sort_unstable();
+    let mut used_inputs = names.used_inputs;
+    used_inputs.sort_unstable();
+    Ok(Program {
+        stmts,
+        vars: names.vars,
+        labels,
+        used,
+        uses_preg: names.uses_preg,
+        used_inputs,
+    })
+}

@@ -1,0 +1,69 @@
+//! TML's entry in the dialect registry.
+
+use std::sync::Arc;
+
+use super::{Tml, assemble};
+use crate::machine::registry::{AtLimit, ChannelSpec, Dialect, OpenResult, Settings, Vocabulary};
+
+pub static DIALECT: Dialect = Dialect {
+    name: "tml",
+    display_name: "Technosoft TML",
+    extensions: &["tml"],
+    vocabulary: Vocabulary {
+        tick: "tick",
+        ticks: "ticks",
+        step: "statement",
+        steps: "statements",
+    },
+    examples: &[
+        (
+            "fixed_speed.tml",
+            include_str!("../../../assets/examples/fixed_speed.tml"),
+        ),
+        (
+            "shifts.tml",
+            include_str!("../../../assets/examples/shifts.tml"),
+        ),
+        (
+            "moves.tml",
+            include_str!("../../../assets/examples/moves.tml"),
+        ),
+        (
+            "wait_input.tml",
+            include_str!("../../../assets/examples/wait_input.tml"),
+        ),
+    ],
+    lessons: &[(
+        "tml_fixed_point_lesson.ron",
+        include_str!("../../../sessions/tml_fixed_point_lesson.ron"),
+    )],
+    settings: &[],
+    default_channels: &[
+        ChannelSpec {
+            location: "TPOS",
+            label: "target (TPOS)",
+            group: 0,
+        },
+        ChannelSpec {
+            location: "APOS",
+            label: "actual (APOS)",
+            group: 0,
+        },
+    ],
+    default_max_ticks: 10_000_000,
+    at_limit: AtLimit::Limit,
+    new_program: "// A new TML program\nint i;\n\n        i = 1;\n        END;\n",
+    open,
+    classify: super::syntax::classify,
+    #[cfg(feature = "gui")]
+    panels: super::panels::panels,
+};
+
+/// A machine for `source`, or every diagnostic.
+pub fn machine(source: &str) -> Result<Tml, Vec<crate::machine::Diagnostic>> {
+    Ok(Tml::new(Arc::new(assemble(source)?)))
+}
+
+fn open(source: &str, _settings: &Settings) -> OpenResult {
+    machine(source).map(crate::debugger::engine)
+}

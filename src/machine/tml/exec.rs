@@ -1,0 +1,391 @@
+//! Running TML: one statement at a time inside a tick's instruction phase, then the motion,
+//! time and event phases of spec §3.
+
+use super::program::{AddKind, Data, EventSpec, Op, Operand, Value};
+use super::{
+    Event, Fault, LastMultiply, PREG_MASK, STACK_DEPTH, STATEMENTS_PER_TICK, Tml, d, der, mer, srl,
+};
+use crate::machine::{MachineView, Pos, StopReason};
+
+/// What one statement did.
+enum Outcome {
+    Done,
+    /// `WAIT!` must wait: the instruction phase is over.
+    Wait,
+    Fault(Fault),
+}
+
+fn sx16(v: u32) -> i64 {
+    i64::from(v as u16 as i16)
+}
+fn sx32(v: u32) -> i64 {
+    i64::from(v as i32)
+}
+
+impl Tml {
+    /// The signed value an instruction reads from `op` (PROD/PRODH from PREG).
+    pub fn read(&self, op: &Operand) -> i64 {
+        let raw = self.raw(op.data);
+        match op.half {
+            Some(true) => sx16(raw >> 16),
+            Some(false) => sx16(raw),
+            None if op.ty.bits() == 16 => sx16(raw),
+            None => sx32(raw),
+        }
+    }
+
+    /// The raw bits of a datum (16-bit data in the low half).
+    pub fn raw(&self, data: Data) -> u32 {
+        match data {
+            Data::Pre(d::PROD) => self.preg as u32,
+            Data::Pre(d::PRODH) => (self.preg >> 16) as u32,
+            Data::Pre(i) => self.data[i as usize],
+            Data::Var(v) => self.vars[v as usize],
+        }
+    }
+
+    fn set_raw(&mut self, data: Data, raw: u32) {
+        match data {
+            Data::Pre(i) => self.data[i as usize] = raw,
+            Data::Var(v) => self.vars[v as usize] = raw,
+        }
+    }
+
+    /// Store the low bits of `value` in `op` (two's complement wrap).
+    pub fn write(&mut self, op: &Operand, value: i64) {
+        let old = self.raw(op.data);
+        let raw = match op.half {
+            Some(true) => (old & 0xFFFF) | ((value as u32 & 0xFFFF) << 16),
+            Some(false) => (old & 0xFFFF_0000) | (value as u32 & 0xFFFF),
+            None if op.ty.bits() == 16 => value as u32 & 0xFFFF,
+            None => value as u32,
+        };
+        self.set_raw(op.data, raw);
+    }
+
+    fn value(&self, v: &Value) -> i64 {
+        match v {
+            Value::Imm(i) => *i,
+            Value::Var(op) => self.read(op),
+        }
+    }
+
+    fn srl_set(&mut self, bits: u32, on: bool) {
+        let srl = &mut self.data[d::SRL as usize];
+        if on {
+            *srl |= bits;
+        } else {
+            *srl &= !bits;
+        }
+    }
+
+    /// Shifted as spec §5.5 on `bits` bits: left zero-fills, right sign-extends.
+    fn shifted(value: i64, left: bool, n: u8) -> i64 {
+        if left { value << n } else { value >> n }
+    }
+
+    fn execute(&mut self) -> Outcome {
+        let index = self.pc as usize;
+        let op = self.program.stmts[index].op;
+        let mut next = self.pc + 1;
+        let mut vals = [0i64; 3];
+        match op {
+            Op::Assign(dst, src) => {
+                let v = self.value(&src);
+                self.write(&dst, v);
+                vals = [v, 0, self.read(&dst)];
+            }
+            Op::Negate(dst, src) => {
+                let v = self.read(&src);
+                self.write(&dst, v.wrapping_neg());
+                vals = [v, 0, self.read(&dst)];
+            }
+            Op::AssignShift { dst, src, left, n } => {
+                let v = self.read(&src);
+                self.write(&dst, Self::shifted(v, left, n));
+                vals = [v, i64::from(n), self.read(&dst)];
+            }
+            Op::Add {
+                dst,
+                src,
+                kind,
+                subtract,
+            } => {
+                let old = self.read(&dst);
+                let mut delta = self.value(&src);
+                if kind == AddKind::IntegerPart {
+                    delta *= 65536;
+                }
+                let result = if subtract {
+                    old.wrapping_sub(delta)
+                } else {
+                    old.wrapping_add(delta)
+                };
+                self.write(&dst, result);
+                vals = [old, delta, self.read(&dst)];
+            }
+            Op::Multiply { a, b, left, n } => {
+                let (va, vb) = (self.read(&a), self.value(&b));
+                let product = i128::from(va) * i128::from(vb);
+                let shifted = if left { product << n } else { product >> n };
+                self.preg = (shifted as u64) & PREG_MASK;
+                self.last_multiply = Some(LastMultiply {
+                    line: self.program.stmts[index].line,
+                    a: va,
+                    b: vb,
+                    left,
+                    shift: n,
+                    product,
+                });
+                vals = [va, vb, self.preg_signed()];
+            }
+            Op::Divide(dst, divisor) => {
+                let old = self.read(&dst);
+                let n = if dst.is_fixed() {
+                    i128::from(old)
+                } else {
+                    i128::from(old) * 65536
+                };
+                let dv = self.read(&divisor);
+                let q = if dv == 0 {
+                    if n >= 0 { i128::from(i32::MAX) } else { i128::from(i32::MIN) }
+                } else {
+                    (n / i128::from(dv)).clamp(i128::from(i32::MIN), i128::from(i32::MAX))
+                };
+                self.write(&dst, q as i64);
+                vals = [old, dv, q as i64];
+            }
+            Op::Shift { dst, left, n } => {
+                let old = self.read(&dst);
+                self.write(&dst, Self::shifted(old, left, n));
+                vals = [old, i64::from(n), self.read(&dst)];
+            }
+            Op::ShiftProduct { left, n } => {
+                let old = self.preg_signed();
+                self.preg = (Self::shifted(old, left, n) as u64) & PREG_MASK;
+                vals = [old, i64::from(n), self.preg_signed()];
+            }
+            Op::Srb { dst, and, or } => {
+                let old = self.read(&dst);
+                let raw = (old as u16 & and) | or;
+                self.write(&dst, i64::from(raw));
+                vals = [old, 0, self.read(&dst)];
+            }
+            Op::Jump { target, call, cond } => {
+                let taken = match cond {
+                    Some((x, c)) => {
+                        let v = self.read(&x);
+                        vals[0] = v;
+                        c.holds(v)
+                    }
+                    None => true,
+                };
+                vals[1] = i64::from(taken);
+                if taken {
+                    if call {
+                        if self.stack.len() >= STACK_DEPTH {
+                            self.data[d::MER as usize] |= mer::COMMAND_ERROR;
+                            self.data[d::DER as usize] |= der::STACK_OVERFLOW;
+                            return Outcome::Fault(Fault::StackOverflow);
+                        }
+                        self.stack.push(self.pc + 1);
+                    }
+                    next = target;
+                }
+            }
+            Op::Ret => match self.stack.pop() {
+                Some(back) => next = back,
+                None => {
+                    self.data[d::MER as usize] |= mer::COMMAND_ERROR;
+                    self.data[d::DER as usize] |= der::STACK_UNDERFLOW;
+                    return Outcome::Fault(Fault::StackUnderflow);
+                }
+            },
+            Op::End => {
+                self.ended = true;
+            }
+            Op::ModePp => {
+                self.mode_pp = true;
+                self.tum1 = false;
+            }
+            Op::Relative(relative) => self.relative = relative,
+            Op::Tum(one) => self.tum1 = one,
+            Op::Upd => self.update(),
+            Op::Stop => {
+                if self.profile.active {
+                    self.profile.stopping = true;
+                    self.profile.decel = sx32(self.data[d::CACC as usize]);
+                }
+            }
+            Op::Sap(v) => {
+                let value = self.value(&v);
+                let apos = sx32(self.data[d::APOS as usize]);
+                let delta = value - apos;
+                self.data[d::APOS as usize] = value as u32;
+                self.profile.x += i128::from(delta) * 65536;
+                self.data[d::TPOS as usize] = self.profile.position() as u32;
+                if self.profile.active && !self.profile.stopping {
+                    self.profile.end = (i64::from(self.profile.end) + delta) as i32;
+                }
+                vals = [value, delta, 0];
+            }
+            Op::Axis(on) => {
+                self.srl_set(srl::AXIS_ON, on);
+                if !on {
+                    self.profile.active = false;
+                    self.profile.stopping = false;
+                    self.profile.v = 0;
+                    self.profile.x = i128::from(sx32(self.data[d::APOS as usize])) * 65536;
+                }
+            }
+            Op::Nop => {}
+            Op::SetEvent(spec) => {
+                self.event = Some(match spec {
+                    EventSpec::MotionComplete => Event::MotionComplete,
+                    EventSpec::Time(v) => Event::Time {
+                        after: self.value(&v),
+                        time0: sx32(self.data[d::ATIME as usize]),
+                    },
+                    EventSpec::Input(input, level) => Event::Input { input, level },
+                });
+                self.srl_set(srl::EVENT, false);
+            }
+            Op::Wait(limit) => {
+                let occurred = self.event.is_none() || self.data[d::SRL as usize] & srl::EVENT != 0;
+                let t0 = *self.wait_since.get_or_insert(self.tick);
+                let timed_out = limit.is_some_and(|t| self.tick - t0 >= u64::from(t));
+                if !(occurred || timed_out) {
+                    return Outcome::Wait;
+                }
+                vals = [i64::from(occurred), (self.tick - t0) as i64, 0];
+                self.wait_since = None;
+            }
+        }
+        self.last = Some(index as u32);
+        self.last_vals = vals;
+        self.pc = next;
+        if self.pc as usize >= self.program.stmts.len() {
+            self.ended = true;
+        }
+        Outcome::Done
+    }
+
+    /// `UPD` (spec §5.8): start or retarget the profile, or ignore it with the error bits set.
+    fn update(&mut self) {
+        let (cspd, cacc) = (
+            sx32(self.data[d::CSPD as usize]),
+            sx32(self.data[d::CACC as usize]),
+        );
+        let axis_on = self.data[d::SRL as usize] & srl::AXIS_ON != 0;
+        if !self.mode_pp || !axis_on || cspd <= 0 || cacc <= 0 {
+            self.data[d::MER as usize] |= mer::COMMAND_ERROR;
+            self.data[d::DER as usize] |= der::UPD_IGNORED;
+            return;
+        }
+        let p = &mut self.profile;
+        if !self.tum1 {
+            p.x = i128::from(sx32(self.data[d::APOS as usize])) * 65536;
+            p.v = sx32(self.data[d::ASPD as usize]);
+        }
+        let cpos = sx32(self.data[d::CPOS as usize]);
+        p.end = if self.relative {
+            (i64::from(p.position_unwrapped()) + cpos) as i32
+        } else {
+            cpos as i32
+        };
+        p.speed = cspd;
+        p.accel = cacc;
+        p.active = true;
+        p.stopping = false;
+        self.srl_set(srl::MOTION_COMPLETE, false);
+    }
+
+    /// Phases 3–6 of a tick.
+    fn finish_tick(&mut self) {
+        // 3. motion
+        self.profile.advance();
+        let tpos = self.profile.position();
+        self.data[d::TPOS as usize] = tpos as u32;
+        self.data[d::TSPD as usize] = self.profile.v as u32;
+        let apos = self.data[d::APOS as usize] as i32;
+        if self.data[d::SRL as usize] & srl::AXIS_ON != 0 {
+            let r = i64::from(tpos.wrapping_sub(apos));
+            let m = r - r / 2;
+            self.data[d::APOS as usize] = apos.wrapping_add(m as i32) as u32;
+            self.data[d::ASPD as usize] = (m * 65536) as u32;
+        } else {
+            self.data[d::ASPD as usize] = 0;
+        }
+        let err = tpos.wrapping_sub(self.data[d::APOS as usize] as i32);
+        self.data[d::POSERR as usize] = err.clamp(-32768, 32767) as u32 & 0xFFFF;
+        let active = self.profile.active;
+        self.srl_set(srl::MOTION_COMPLETE, !active);
+        // 4. time
+        self.data[d::ATIME as usize] = self.data[d::ATIME as usize].wrapping_add(1);
+        // 5. the programmed event
+        if let Some(event) = self.event
+            && self.data[d::SRL as usize] & srl::EVENT == 0
+        {
+            let occurred = match event {
+                Event::MotionComplete => !active,
+                Event::Time { after, time0 } => sx32(self.data[d::ATIME as usize]) - time0 >= after,
+                Event::Input { input, level } => self.input(input.into()) == level,
+            };
+            if occurred {
+                self.srl_set(srl::EVENT, true);
+            }
+        }
+        // 6. complete
+        self.tick += 1;
+        self.step = 0;
+    }
+
+    pub fn is_live(&self) -> bool {
+        !self.ended && self.fault.is_none()
+    }
+
+    /// Run until `limit`, a stop, or `stop` asks before a statement starts.
+    pub fn run_loop<F: FnMut(&Self) -> bool, O: FnMut(&Self)>(
+        &mut self,
+        limit: Pos,
+        mut stop: F,
+        mut observe: O,
+    ) -> StopReason {
+        loop {
+            if !self.is_live() {
+                return StopReason::Stopped;
+            }
+            if self.pos() >= limit {
+                return StopReason::TickLimit;
+            }
+            // A retried WAIT! is the middle of a statement, not a start.
+            if self.wait_since.is_none() && stop(self) {
+                return StopReason::Predicate;
+            }
+            let phase_over = match self.execute() {
+                Outcome::Done => {
+                    self.steps += 1;
+                    self.step += 1;
+                    self.ended || self.step >= STATEMENTS_PER_TICK
+                }
+                Outcome::Wait => true,
+                Outcome::Fault(f) => {
+                    let line = self.program.stmts[self.pc as usize].line;
+                    self.fault = Some((f, line));
+                    true
+                }
+            };
+            if phase_over {
+                self.finish_tick();
+                observe(self);
+            }
+        }
+    }
+}
+
+impl super::Profile {
+    /// ⌊x / 65536⌋ without wrapping, as the relative end of UPD needs it.
+    pub fn position_unwrapped(&self) -> i64 {
+        (self.x >> 16) as i64
+    }
+}

@@ -1,0 +1,157 @@
+//! The last statement in words, with its operand values (spec issue: "PREG = (Var1 4694 × 293)
+//! << 12 = 0x00014FC6E000").
+
+use super::program::{AddKind, Data, Op, Operand, Value};
+use super::{PREDEFINED, Tml};
+use crate::machine::value::q16_exact;
+
+fn name(m: &Tml, op: &Operand) -> String {
+    let base = match op.data {
+        Data::Pre(i) => PREDEFINED[i as usize].name.to_string(),
+        Data::Var(v) => m.var_name(v as usize).to_string(),
+    };
+    match op.half {
+        Some(true) => format!("{base}(H)"),
+        Some(false) => format!("{base}(L)"),
+        None => base,
+    }
+}
+
+/// A value as its datum reads: fixed also in decimal.
+fn shown(op: &Operand, v: i64) -> String {
+    if op.is_fixed() {
+        format!("{v} = {} (fixed)", q16_exact(v))
+    } else {
+        v.to_string()
+    }
+}
+
+fn source(m: &Tml, v: &Value, read: i64) -> String {
+    match v {
+        Value::Imm(_) => read.to_string(),
+        Value::Var(op) => format!("{} {read}", name(m, op)),
+    }
+}
+
+pub fn explain(m: &Tml) -> Option<String> {
+    let index = m.last? as usize;
+    let stmt = m.program.stmts.get(index)?;
+    let [a, b, r] = m.last_vals;
+    let line = stmt.line;
+    let text = match stmt.op {
+        Op::Assign(dst, src) => format!("{} = {}", name(m, &dst), match src {
+            Value::Imm(_) => shown(&dst, r),
+            Value::Var(s) => format!("{} = {}", name(m, &s), shown(&dst, r)),
+        }),
+        Op::Negate(dst, src) => format!("{} = −({} {a}) = {}", name(m, &dst), name(m, &src), shown(&dst, r)),
+        Op::AssignShift { dst, src, left, n } => format!(
+            "{} = {} {a} {} {n} = {}",
+            name(m, &dst),
+            name(m, &src),
+            if left { "<<" } else { ">>" },
+            shown(&dst, r)
+        ),
+        Op::Add { dst, src, kind, subtract } => {
+            let sign = if subtract { "−" } else { "+" };
+            let what = match (src, kind) {
+                (Value::Var(s), AddKind::IntegerPart) => {
+                    format!("{} {} × 65536", name(m, &s), b / 65536)
+                }
+                (s, _) => source(m, &s, b),
+            };
+            format!("{} = {a} {sign} {what} = {}", name(m, &dst), shown(&dst, r))
+        }
+        Op::Multiply { a: x, b: y, left, n } => {
+            let mult = m.last_multiply?;
+            let by = match y {
+                Value::Imm(_) => mult.b.to_string(),
+                Value::Var(op) => format!("{} {}", name(m, &op), mult.b),
+            };
+            let lost = if left && n > 0 { " (high bits beyond 48 lost)" } else if !left && n > 0 { " (low bits lost)" } else { "" };
+            format!(
+                "PREG = ({} {} × {by}) {} {n} = 0x{:012X}{lost}; product {}",
+                name(m, &x),
+                mult.a,
+                if left { "<<" } else { ">>" },
+                m.preg,
+                mult.product
+            )
+        }
+        Op::Divide(dst, divisor) => {
+            let num = if dst.is_fixed() {
+                format!("{a}")
+            } else {
+                format!("({a} × 65536)")
+            };
+            let note = if b == 0 { " (÷0 saturates)" } else { "" };
+            format!(
+                "{} /= {}: {num} / {b} = {r} = {} (fixed){note}",
+                name(m, &dst),
+                name(m, &divisor),
+                q16_exact(r)
+            )
+        }
+        Op::Shift { dst, left, n } => format!(
+            "{} {}= {n}: {a} → {}",
+            name(m, &dst),
+            if left { "<<" } else { ">>" },
+            shown(&dst, r)
+        ),
+        Op::ShiftProduct { left, n } => format!(
+            "PREG {}= {n}: {a} → {} (0x{:012X})",
+            if left { "<<" } else { ">>" },
+            r,
+            m.preg
+        ),
+        Op::Srb { dst, and, or } => format!(
+            "SRB {}: ({} AND 0x{and:04X}) OR 0x{or:04X} = {}",
+            name(m, &dst),
+            a,
+            r
+        ),
+        Op::Jump { call, cond, .. } => {
+            let verb = if call { "CALL" } else { "GOTO" };
+            match cond {
+                Some((x, c)) => format!(
+                    "{verb}: {} = {a} {} {}",
+                    name(m, &x),
+                    c.symbol(),
+                    if b != 0 { "holds: jumped" } else { "does not hold: went on" }
+                ),
+                None => format!("{verb}: jumped"),
+            }
+        }
+        Op::Ret => "RET: back after the CALL".into(),
+        Op::End => "END: the program ended".into(),
+        Op::ModePp => "MODE PP: trapezoidal position profile (TUM0)".into(),
+        Op::Relative(true) => "CPR: CPOS is relative".into(),
+        Op::Relative(false) => "CPA: CPOS is absolute".into(),
+        Op::Tum(t) => format!("TUM{}: the next UPD starts from the {}", u8::from(t), if t { "reference" } else { "actual position and speed" }),
+        Op::Upd => {
+            let p = &m.profile;
+            if p.active {
+                format!(
+                    "UPD: move to {} at speed {} and acceleration {} (counts/tick)",
+                    p.end,
+                    q16_exact(p.speed),
+                    q16_exact(p.accel)
+                )
+            } else {
+                "UPD: ignored (MER bit 14, DER bit 4): no MODE PP, axis off, or CSPD/CACC not positive".into()
+            }
+        }
+        Op::Stop => "STOP: decelerate to standstill at CACC".into(),
+        Op::Sap(_) => format!("SAP: APOS = {a} (shifted by {b}; the motor does not move)"),
+        Op::Axis(on) => format!("{}: power stage {}", if on { "AXISON" } else { "AXISOFF" }, if on { "on" } else { "off" }),
+        Op::Nop => format!("{}: no effect", stmt.text),
+        Op::SetEvent(_) => format!("{}: event programmed, SRL bit 14 cleared", stmt.text),
+        Op::Wait(_) => {
+            if a != 0 {
+                format!("WAIT!: the event occurred after {b} ticks")
+            } else {
+                format!("WAIT!: timed out after {b} ticks")
+            }
+        }
+    };
+    Some(format!("line {line}: {text}"))
+}

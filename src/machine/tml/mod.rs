@@ -1,0 +1,257 @@
+//! Technosoft TML (spec `tml.md`): the language of iPOS/IDM drives. 16-bit `int`, 32-bit
+//! `long`, 16.16 `fixed`, a 48-bit product register, 10 statements per 1 ms tick, events and
+//! `WAIT!`, and an integer trapezoidal profile that lands exactly.
+//!
+//! Decided where the spec is silent (each also noted where it is implemented):
+//! - Positions are `(tick, step)`: `step` counts the statements completed in the tick. A tick
+//!   completes as soon as its instruction phase ends (10 statements, a `WAIT!` that must wait,
+//!   `END`, a fault): the motion phases run at once, so `(t, 10)` is never a position.
+//! - A breakpoint is checked when a statement starts, not when a waiting `WAIT!` is retried.
+//! - User edits: the rw data of §2, user variables, PREG and the inputs may be written from the
+//!   debugger; the data the drive computes (TPOS, APOS, SRL, …) may not. Writing CPOS etc. takes
+//!   effect at the next `UPD`, as a TML assignment would.
+//! - The plot's profile end is the `motion.end` of the runner (P of the last accepted UPD).
+
+pub mod assembler;
+pub mod dialect;
+mod exec;
+mod explain;
+mod motion;
+pub mod program;
+#[cfg(feature = "gui")]
+pub mod panels;
+pub mod syntax;
+pub mod view;
+
+use std::sync::Arc;
+
+pub use assembler::assemble;
+pub use program::{Program, Stmt, Ty};
+
+/// Statements per tick (spec §3).
+pub const STATEMENTS_PER_TICK: u32 = 10;
+/// Return points the TML stack holds (spec §5.7).
+pub const STACK_DEPTH: usize = 11;
+pub const TICK_MICROS: u32 = 1000;
+pub const INPUTS: usize = 16;
+
+/// The predefined data of spec §2, in the order views and the runner list them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Predefined {
+    pub name: &'static str,
+    pub alias: Option<&'static str>,
+    pub ty: Ty,
+    pub writable: bool,
+    pub description: &'static str,
+}
+
+pub const PREDEFINED: &[Predefined] = &[
+    pre("CPOS", None, Ty::Long, true, "command position (relative or absolute)"),
+    pre("CSPD", None, Ty::Fixed, true, "command (slew) speed, counts/tick"),
+    pre("CACC", None, Ty::Fixed, true, "command acceleration, counts/tick²"),
+    pre("TPOS", None, Ty::Long, false, "target position from the profile"),
+    pre("TSPD", None, Ty::Fixed, false, "target speed"),
+    pre("APOS", Some("APOS_LD"), Ty::Long, false, "actual position"),
+    pre("ASPD", Some("ASPD_MT"), Ty::Fixed, false, "actual speed"),
+    pre("POSERR", None, Ty::Int, false, "TPOS − APOS, clamped to 16 bits"),
+    pre("ATIME", None, Ty::Long, false, "absolute time: ticks completed"),
+    pre("SRL", None, Ty::Uint, false, "status register low"),
+    pre("SRH", None, Ty::Uint, false, "status register high (always 0 here)"),
+    pre("MER", None, Ty::Uint, false, "motion error register"),
+    pre("DER", None, Ty::Uint, false, "drive error register"),
+    pre("UPGRADE", None, Ty::Int, true, "stored only"),
+    pre("FLAGUV", None, Ty::Int, false, "under-voltage flag, always 0"),
+    pre("PROD", None, Ty::Long, false, "bits 31..0 of the product register"),
+    pre("PRODH", None, Ty::Long, false, "bits 47..16 of the product register"),
+];
+
+const fn pre(
+    name: &'static str,
+    alias: Option<&'static str>,
+    ty: Ty,
+    writable: bool,
+    description: &'static str,
+) -> Predefined {
+    Predefined {
+        name,
+        alias,
+        ty,
+        writable,
+        description,
+    }
+}
+
+/// Indices into [`PREDEFINED`] (and [`Tml::data`]).
+pub mod d {
+    pub const CPOS: u8 = 0;
+    pub const CSPD: u8 = 1;
+    pub const CACC: u8 = 2;
+    pub const TPOS: u8 = 3;
+    pub const TSPD: u8 = 4;
+    pub const APOS: u8 = 5;
+    pub const ASPD: u8 = 6;
+    pub const POSERR: u8 = 7;
+    pub const ATIME: u8 = 8;
+    pub const SRL: u8 = 9;
+    pub const SRH: u8 = 10;
+    pub const MER: u8 = 11;
+    pub const DER: u8 = 12;
+    pub const UPGRADE: u8 = 13;
+    pub const FLAGUV: u8 = 14;
+    pub const PROD: u8 = 15;
+    pub const PRODH: u8 = 16;
+    pub const COUNT: usize = 17;
+}
+
+pub mod srl {
+    pub const MOTION_COMPLETE: u32 = 1 << 10;
+    pub const EVENT: u32 = 1 << 14;
+    pub const AXIS_ON: u32 = 1 << 15;
+}
+pub mod mer {
+    pub const COMMAND_ERROR: u32 = 1 << 14;
+}
+pub mod der {
+    pub const STACK_OVERFLOW: u32 = 1 << 0;
+    pub const STACK_UNDERFLOW: u32 = 1 << 1;
+    pub const UPD_IGNORED: u32 = 1 << 4;
+}
+
+/// PREG's 48 bits.
+pub const PREG_MASK: u64 = (1 << 48) - 1;
+
+/// The programmed event (spec §5.9).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Event {
+    MotionComplete,
+    /// `!RT t`: t ticks after `time0`.
+    Time { after: i64, time0: i64 },
+    Input { input: u8, level: bool },
+}
+
+/// The trapezoidal profile generator (spec §6).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Profile {
+    /// Reference position × 65536 (never wrapped).
+    pub x: i128,
+    /// Reference speed, raw 16.16.
+    pub v: i64,
+    pub active: bool,
+    pub stopping: bool,
+    /// End position P, speed V and acceleration A of the last accepted UPD.
+    pub end: i32,
+    pub speed: i64,
+    pub accel: i64,
+    /// Deceleration while stopping.
+    pub decel: i64,
+}
+
+/// The last multiplication, for the product register panel and the explanation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LastMultiply {
+    pub line: usize,
+    pub a: i64,
+    pub b: i64,
+    pub left: bool,
+    pub shift: u8,
+    /// The exact product before the shift.
+    pub product: i128,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Fault {
+    StackOverflow,
+    StackUnderflow,
+}
+
+impl Fault {
+    pub fn kind(self) -> &'static str {
+        match self {
+            Fault::StackOverflow => "stack_overflow",
+            Fault::StackUnderflow => "stack_underflow",
+        }
+    }
+    pub fn message(self) -> &'static str {
+        match self {
+            Fault::StackOverflow => "CALL with 11 return points already on the TML stack",
+            Fault::StackUnderflow => "RET with no CALL to return to",
+        }
+    }
+}
+
+/// A TML drive running one program.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tml {
+    pub program: Arc<Program>,
+    /// Predefined data, raw low bits of each datum's width (PROD/PRODH are read from PREG).
+    pub data: [u32; d::COUNT],
+    /// User variables, raw, in declaration order.
+    pub vars: Vec<u32>,
+    /// The 48-bit product register, raw.
+    pub preg: u64,
+    pub inputs: u16,
+    pub stack: Vec<u32>,
+    pub pc: u32,
+    pub tick: u64,
+    pub step: u32,
+    pub steps: u64,
+    pub ended: bool,
+    pub fault: Option<(Fault, usize)>,
+    pub event: Option<Event>,
+    /// The tick in which a waiting `WAIT!` was first reached.
+    pub wait_since: Option<u64>,
+    pub mode_pp: bool,
+    pub relative: bool,
+    pub tum1: bool,
+    pub profile: Profile,
+    /// Index of the last completed statement, and the values it read and wrote.
+    pub last: Option<u32>,
+    pub last_vals: [i64; 3],
+    pub last_multiply: Option<LastMultiply>,
+}
+
+impl Tml {
+    pub fn new(program: Arc<Program>) -> Self {
+        let vars = vec![0; program.vars.len()];
+        let mut data = [0; d::COUNT];
+        data[d::SRL as usize] = srl::AXIS_ON | srl::MOTION_COMPLETE;
+        let ended = program.stmts.is_empty();
+        Tml {
+            program,
+            data,
+            vars,
+            preg: 0,
+            inputs: 0,
+            stack: Vec::new(),
+            pc: 0,
+            tick: 0,
+            step: 0,
+            steps: 0,
+            ended,
+            fault: None,
+            event: None,
+            wait_since: None,
+            mode_pp: false,
+            relative: true,
+            tum1: false,
+            profile: Profile::default(),
+            last: None,
+            last_vals: [0; 3],
+            last_multiply: None,
+        }
+    }
+
+    /// PREG as a signed 48-bit number.
+    pub fn preg_signed(&self) -> i64 {
+        ((self.preg << 16) as i64) >> 16
+    }
+
+    pub fn input(&self, n: usize) -> bool {
+        self.inputs & (1 << n) != 0
+    }
+
+    /// Whether `WAIT!` is waiting now, and for how many ticks already.
+    pub fn waiting(&self) -> Option<u64> {
+        self.wait_since.map(|t0| self.tick.saturating_sub(t0))
+    }
+}
