@@ -94,7 +94,38 @@ fn benches(c: &mut Criterion) {
         })
     });
     group.finish();
+
+    // TML: ten statements a tick, so 100,000 ticks run 1,000,000 statements.
+    let mut group = c.benchmark_group("tml");
+    group.throughput(Throughput::Elements(COMMANDS));
+    let start = servoscope::machine::tml::dialect::machine(TML_ARITHMETIC)
+        .expect("bench program assembles");
+    group.bench_function("arithmetic loop (statements)", |b| {
+        b.iter(|| {
+            let mut m = start.clone();
+            m.run_until(COMMANDS / 10, |_| false);
+            black_box(m.preg)
+        })
+    });
+    group.finish();
 }
+
+/// Ten statements a round: 16- and 32-bit adds, a multiply into PREG, a fixed division, a
+/// shift, a read of PRODH and a conditional jump.
+const TML_ARITHMETIC: &str = "\
+int i; int k; long l; fixed f; long h;
+        k = 7;
+loop:   i += 3;
+        l += i;
+        l * k << 2;
+        h = PRODH;
+        f = l;
+        f /= k;
+        l >>= 1;
+        i -= 1;
+        f += 0.5;
+        GOTO loop, k, GT;
+";
 
 criterion_group!(machine_benches, benches);
 criterion_main!(machine_benches);

@@ -1070,3 +1070,38 @@ fn the_open_window_selects_its_path_and_says_when_no_dialog_shows() {
     h.step();
     assert!(h.get_by_label("Path").is_focused());
 }
+
+/// Issue #10: a TML program in the window: step it, read a fixed value and the product
+/// register.
+#[test]
+fn a_tml_program_steps_and_shows_fixed_values_and_preg() {
+    let tml = servoscope::machine::registry::by_name("tml").expect("TML is registered");
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.load_program_as(
+        tml,
+        "speed.tml",
+        "fixed speed; int ten;\nspeed = 26.6667;\nten = 10;\nspeed * ten;\nEND;",
+    );
+    let mut h = harness(app);
+    for _ in 0..3 {
+        h.key_press(Key::F10);
+        h.run_steps(2);
+    }
+    let m = h.state().debugger.machine();
+    assert_eq!(m.steps(), 3);
+    // The fixed variable reads as Q16.16 in the table, under its declared name.
+    h.get_by_label("speed");
+    h.get_by_label("26.666702");
+    // PREG = 1747629 × 10 as 32.16: PRODH is the integer part, 266.
+    h.get_by_label("Product register");
+    h.get_by_label("0x0000010AAAC2 = 17476290");
+    h.get_by_label("PRODH = 266   PROD = 17476290");
+    h.get_by_label_contains("PREG = (speed 1747629 × ten 10) << 0");
+    // Its bits: integer part over fraction, the binary point between, the exact decimal.
+    let speed = h.state().debugger.machine().find("speed").expect("speed");
+    h.state_mut().registers.selected = Some(speed);
+    h.run_steps(2);
+    h.get_by_label("● binary point: 26.6667022705078125 (exactly)");
+    h.get_by_label("integer 31–16");
+    h.get_by_label("fraction 15–0");
+}

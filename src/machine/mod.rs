@@ -268,6 +268,12 @@ pub trait MachineView: Send + 'static {
     /// The dialect's lines of the runner's text report.
     fn report_text(&self) -> String;
 
+    /// Values the plot marks with a horizontal line on its first plot (TML: the profile's end
+    /// position), with their labels.
+    fn plot_markers(&self) -> Vec<(String, i64)> {
+        Vec::new()
+    }
+
     /// For a dialect's own panels, which know the concrete type.
     fn as_any(&self) -> &dyn Any;
 }

@@ -443,11 +443,24 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut PlotView, out: &m
                     (index, channel, view.points(trace, index, x0, x1, columns))
                 })
                 .collect();
+            let markers = if row == 0 {
+                machine.plot_markers()
+            } else {
+                Vec::new()
+            };
             let range = y_range(
                 lines
                     .iter()
-                    .flat_map(|(_, _, pts)| pts.iter().map(|p| p[1])),
+                    .flat_map(|(_, _, pts)| pts.iter().map(|p| p[1]))
+                    .chain(markers.iter().map(|(_, v)| *v as f64)),
             );
+            for (label, value) in &markers {
+                plot_ui.hline(
+                    egui_plot::HLine::new(label.as_str(), *value as f64)
+                        .color(p.dim)
+                        .style(egui_plot::LineStyle::dashed_loose()),
+                );
+            }
             plot_ui.set_plot_bounds_y(range.0..=range.1);
             frames.push(PlotFrame {
                 rect: *plot_ui.transform().frame(),

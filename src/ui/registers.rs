@@ -272,20 +272,37 @@ fn bit_grid(
     let cell = vec2(14.0, 18.0);
     let nibble_gap = 4.0;
     let words = u32::from(width).div_ceil(16);
+    // A fixed 16.16 (its dialect reads it as Q16.16): the binary point sits between bits 16
+    // and 15, i.e. between the two rows.
+    let fixed_point = info.format == Some(Format::Q16) && width == 32;
     // One row per 16-bit word, the most significant first.
     for word in (0..words).rev() {
         let low = word * 16;
         let high = (low + 15).min(u32::from(width) - 1);
+        if fixed_point && word == 0 {
+            ui.horizontal(|ui| {
+                ui.add_space(64.0);
+                ui.label(
+                    RichText::new(format!(
+                        "● binary point: {} (exactly)",
+                        value::q16_exact(sign_extend(raw, 32))
+                    ))
+                    .monospace()
+                    .color(p.written),
+                );
+            });
+        }
+        let row_name = match (fixed_point, word) {
+            (true, 1) => "integer 31–16".to_string(),
+            (true, _) => "fraction 15–0".to_string(),
+            _ => format!("bits {high}–{low}"),
+        };
         ui.horizontal(|ui| {
             ui.spacing_mut().item_spacing.x = 0.0;
             ui.spacing_mut().button_padding = vec2(0.0, 0.0);
             ui.add_sized(
                 [64.0, cell.y],
-                egui::Label::new(
-                    RichText::new(format!("bits {high}–{low}"))
-                        .small()
-                        .color(p.dim),
-                ),
+                egui::Label::new(RichText::new(row_name).small().color(p.dim)),
             );
             for bit in (low..=high).rev() {
                 let on = raw >> bit & 1 == 1;
@@ -425,9 +442,10 @@ fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView) {
                     ui.label(text);
                 });
                 row.col(|ui| {
+                    // A TML variable's location is its name already: no second copy.
                     let own = names
                         .iter()
-                        .find(|(_, l)| *l == loc)
+                        .find(|(n, l)| *l == loc && *n != info.name)
                         .map(|(n, _)| n.as_str());
                     let name = info.alias.or(own).unwrap_or("");
                     ui.label(RichText::new(name).small().color(p.dim));

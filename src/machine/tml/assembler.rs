@@ -912,7 +912,10 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
         let mut start = 0;
         for (k, &c) in body.iter().enumerate() {
             if c == ';' {
-                if body[start..k].iter().any(|c| !c.is_whitespace()) {
+                // Declarations are not statements: labels count only what runs.
+                let seg: String = body[start..k].iter().collect();
+                let first = seg.split_whitespace().next().unwrap_or("").to_ascii_uppercase();
+                if !seg.trim().is_empty() && !TYPES.contains(&first.as_str()) {
                     nonempty += 1;
                 }
                 start = k + 1;

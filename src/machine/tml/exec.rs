@@ -52,7 +52,7 @@ impl Tml {
     }
 
     /// Store the low bits of `value` in `op` (two's complement wrap).
-    pub fn write(&mut self, op: &Operand, value: i64) {
+    pub fn store(&mut self, op: &Operand, value: i64) {
         let old = self.raw(op.data);
         let raw = match op.half {
             Some(true) => (old & 0xFFFF) | ((value as u32 & 0xFFFF) << 16),
@@ -92,17 +92,17 @@ impl Tml {
         match op {
             Op::Assign(dst, src) => {
                 let v = self.value(&src);
-                self.write(&dst, v);
+                self.store(&dst, v);
                 vals = [v, 0, self.read(&dst)];
             }
             Op::Negate(dst, src) => {
                 let v = self.read(&src);
-                self.write(&dst, v.wrapping_neg());
+                self.store(&dst, v.wrapping_neg());
                 vals = [v, 0, self.read(&dst)];
             }
             Op::AssignShift { dst, src, left, n } => {
                 let v = self.read(&src);
-                self.write(&dst, Self::shifted(v, left, n));
+                self.store(&dst, Self::shifted(v, left, n));
                 vals = [v, i64::from(n), self.read(&dst)];
             }
             Op::Add {
@@ -121,7 +121,7 @@ impl Tml {
                 } else {
                     old.wrapping_add(delta)
                 };
-                self.write(&dst, result);
+                self.store(&dst, result);
                 vals = [old, delta, self.read(&dst)];
             }
             Op::Multiply { a, b, left, n } => {
@@ -152,12 +152,12 @@ impl Tml {
                 } else {
                     (n / i128::from(dv)).clamp(i128::from(i32::MIN), i128::from(i32::MAX))
                 };
-                self.write(&dst, q as i64);
+                self.store(&dst, q as i64);
                 vals = [old, dv, q as i64];
             }
             Op::Shift { dst, left, n } => {
                 let old = self.read(&dst);
-                self.write(&dst, Self::shifted(old, left, n));
+                self.store(&dst, Self::shifted(old, left, n));
                 vals = [old, i64::from(n), self.read(&dst)];
             }
             Op::ShiftProduct { left, n } => {
@@ -168,7 +168,7 @@ impl Tml {
             Op::Srb { dst, and, or } => {
                 let old = self.read(&dst);
                 let raw = (old as u16 & and) | or;
-                self.write(&dst, i64::from(raw));
+                self.store(&dst, i64::from(raw));
                 vals = [old, 0, self.read(&dst)];
             }
             Op::Jump { target, call, cond } => {
@@ -289,7 +289,7 @@ impl Tml {
         }
         let cpos = sx32(self.data[d::CPOS as usize]);
         p.end = if self.relative {
-            (i64::from(p.position_unwrapped()) + cpos) as i32
+            (p.position_unwrapped() + cpos) as i32
         } else {
             cpos as i32
         };

@@ -460,6 +460,14 @@ impl MachineView for Tml {
         }
         out
     }
+    fn plot_markers(&self) -> Vec<(String, i64)> {
+        // The end of the last accepted UPD (there was one when a speed was latched).
+        if self.profile.speed > 0 {
+            vec![(format!("end {}", self.profile.end), i64::from(self.profile.end))]
+        } else {
+            Vec::new()
+        }
+    }
     fn as_any(&self) -> &dyn Any {
         self
     }
