@@ -299,9 +299,29 @@ fn every_example_session_is_tested() {
         [
             "fifo_queue_lesson.ron",
             "fixed_point_lesson.ron",
-            "homing_on_input.ron"
+            "homing_on_input.ron",
+            "tml_fixed_point_lesson.ron"
         ]
     );
+}
+
+/// The TML lesson opens just after the fixed × int multiply: PREG holds the 32.16 product and
+/// the next statement reads its integer part from PRODH.
+#[test]
+fn tml_lesson_opens_on_the_multiply() {
+    let (s, mut d) = example_in("sessions", "tml_fixed_point_lesson.ron");
+    let m = d
+        .machine_as::<servoscope::machine::tml::Tml>()
+        .expect("a TML machine");
+    assert_eq!(m.pos(), servoscope::machine::Pos { tick: 1, step: 3 });
+    assert_eq!(m.preg_signed(), 1_747_626 * 10, "speed × 10 as 32.16");
+    assert_eq!(m.last_multiply.map(|l| l.line), Some(31));
+    assert_eq!(d.machine().pc_line(), Some(32), "cpm = PRODH is next");
+    assert!(d.breakpoints().contains(&31));
+    assert_eq!(s.view.selected.as_deref(), Some("speed"));
+    d.step_command();
+    let cpm = d.machine().find("cpm").unwrap();
+    assert_eq!(d.machine().read(cpm), 266, "the integer part of 266.666");
 }
 
 #[test]

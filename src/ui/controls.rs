@@ -237,7 +237,9 @@ pub fn shown_inputs(m: &dyn MachineView, extra: &[Loc]) -> Vec<Loc> {
             continue;
         }
         let s = s as u8;
-        if space.len <= 16 {
+        // Up to eight switches fit any toolbar; more (TML's 16, a PLC's hundreds) show only
+        // what the program uses, what is on and what the user added with "+".
+        if space.len <= 8 {
             out.extend((0..space.len).map(|i| Loc::new(s, i)));
         } else {
             out.extend(used.iter().copied().filter(|l| l.space == s));

@@ -190,12 +190,16 @@ impl Layout {
                 .tree
                 .tiles
                 .insert_pane(Pane::Dialect(title.to_string()));
-            let host = self
-                .tree
-                .tiles
+            // Beside the plot: in the container that holds it (past its own tab, if it has
+            // one yet).
+            let tiles = &self.tree.tiles;
+            let host = tiles
                 .find_pane(&Pane::Plot)
-                .and_then(|plot| self.tree.tiles.parent_of(plot))
-                .and_then(|p| self.tree.tiles.parent_of(p).or(Some(p)))
+                .and_then(|plot| tiles.parent_of(plot))
+                .and_then(|p| match tiles.get_container(p) {
+                    Some(egui_tiles::Container::Tabs(_)) => tiles.parent_of(p),
+                    _ => Some(p),
+                })
                 .or(self.tree.root());
             match host.and_then(|h| self.tree.tiles.get_mut(h)) {
                 Some(egui_tiles::Tile::Container(c)) => c.add_child(id),

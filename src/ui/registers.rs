@@ -411,7 +411,7 @@ fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView) {
         .striped(true)
         .sense(Sense::click())
         .cell_layout(egui::Layout::left_to_right(egui::Align::Center))
-        .column(Column::exact(56.0))
+        .column(Column::initial(72.0).at_least(56.0).resizable(true))
         .column(Column::exact(84.0))
         .column(Column::initial(96.0).at_least(60.0).resizable(true))
         .column(Column::exact(120.0))

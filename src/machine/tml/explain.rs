@@ -37,7 +37,6 @@ pub fn explain(m: &Tml) -> Option<String> {
     let index = m.last? as usize;
     let stmt = m.program.stmts.get(index)?;
     let [a, b, r] = m.last_vals;
-    let line = stmt.line;
     let text = match stmt.op {
         Op::Assign(dst, src) => format!("{} = {}", name(m, &dst), match src {
             Value::Imm(_) => shown(&dst, r),
@@ -153,5 +152,5 @@ pub fn explain(m: &Tml) -> Option<String> {
             }
         }
     };
-    Some(format!("line {line}: {text}"))
+    Some(text)
 }

@@ -22,6 +22,11 @@ impl DialectPanel for ProductPanel {
     fn title(&self) -> &'static str {
         "Product register"
     }
+    fn has_content(&self, debugger: &Debugger) -> bool {
+        debugger
+            .machine_as::<Tml>()
+            .is_some_and(|m| m.program.uses_preg || m.last_multiply.is_some())
+    }
     fn show(&mut self, ui: &mut egui::Ui, debugger: &Debugger, _: f32, _: &mut Vec<Command>) {
         if let Some(m) = debugger.machine_as::<Tml>() {
             egui::ScrollArea::both()

@@ -196,7 +196,7 @@ impl MachineView for Tml {
                 description: "the 48-bit product register (PROD = bits 31..0, PRODH = 47..16)",
                 width: 48,
                 signed: true,
-                format: Some(Format::Hex),
+                format: None,
                 bits: &[],
                 editable: true,
             }),
