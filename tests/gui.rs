@@ -1104,4 +1104,7 @@ fn a_tml_program_steps_and_shows_fixed_values_and_preg() {
     h.get_by_label("● binary point: 26.6667022705078125 (exactly)");
     h.get_by_label("integer 31–16");
     h.get_by_label("fraction 15–0");
+    // Sixteen inputs do not all fit the toolbar: those the program uses, and "+" for others.
+    assert!(h.query_by_label("IN#0").is_none());
+    h.get_by_label("+");
 }

@@ -227,8 +227,11 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
     });
 }
 
-/// Inputs shown as switches: all of a small input space; of a large one (X0–X1777), those the
-/// program uses, those that are on and those the user added.
+/// Up to this many inputs are all shown as switches; they fit any toolbar.
+pub const ALL_INPUTS_UP_TO: u32 = 8;
+
+/// Inputs shown as switches: all of a small input space; of a large one (TML's 16, X0–X1777),
+/// those the program uses, those that are on and those the user added with "+".
 pub fn shown_inputs(m: &dyn MachineView, extra: &[Loc]) -> Vec<Loc> {
     let used = m.used();
     let mut out = Vec::new();
@@ -237,9 +240,7 @@ pub fn shown_inputs(m: &dyn MachineView, extra: &[Loc]) -> Vec<Loc> {
             continue;
         }
         let s = s as u8;
-        // Up to eight switches fit any toolbar; more (TML's 16, a PLC's hundreds) show only
-        // what the program uses, what is on and what the user added with "+".
-        if space.len <= 8 {
+        if space.len <= ALL_INPUTS_UP_TO {
             out.extend((0..space.len).map(|i| Loc::new(s, i)));
         } else {
             out.extend(used.iter().copied().filter(|l| l.space == s));
@@ -357,7 +358,7 @@ pub fn toolbar(
         let large = machine
             .spaces()
             .iter()
-            .any(|s| s.kind == SpaceKind::Inputs && s.len > 16);
+            .any(|s| s.kind == SpaceKind::Inputs && s.len > ALL_INPUTS_UP_TO);
         if large {
             ui.menu_button("+", |ui| {
                 let label = ui.label("Show input");
