@@ -410,17 +410,22 @@ fn label_target(ts: &[Token], at: &mut usize, names: &Names) -> Result<u32, Erro
     }
 }
 
-/// A readable V16 or imm16 operand (multiply's right side).
-fn value16(ts: &[Token], at: &mut usize, names: &mut Names) -> Result<Value, Error> {
+/// A readable operand or an immediate of `bits` bits: 16 for a multiply's right side, 32 for
+/// SAP and `!RT`.
+fn value_of_width(
+    ts: &[Token],
+    at: &mut usize,
+    names: &mut Names,
+    bits: u8,
+) -> Result<Value, Error> {
     if let Some(n) = signed_number(ts, at) {
         let (v, fixed, col, len) = n?;
-        if fixed {
-            return err(col, len, "a fixed literal needs a fixed destination");
-        }
-        if !(-32768..=65535).contains(&v) {
-            return err(col, len, "16-bit value out of range (−32768..65535)");
-        }
-        return Ok(Value::Imm(i64::from(v as u16 as i16)));
+        let as_integer = Operand {
+            data: Data::Pre(d::UPGRADE),
+            half: None,
+            ty: if bits == 16 { Ty::Int } else { Ty::Long },
+        };
+        return immediate(v, fixed, &as_integer, col, len).map(Value::Imm);
     }
     if *at >= ts.len() {
         let col = ts.last().map_or(1, |t| t.col + t.len);
@@ -428,32 +433,13 @@ fn value16(ts: &[Token], at: &mut usize, names: &mut Names) -> Result<Value, Err
     }
     let t = ts[*at].clone();
     let op = names.operand(ts, at)?;
-    if op.bits() != 16 {
-        return err(t.col, t.len, "16/32-bit width mismatch: a 16-bit operand is needed here (use X(L) or X(H))");
-    }
-    Ok(Value::Var(op))
-}
-
-/// A readable imm32 or V32 operand (SAP, !RT).
-fn value32(ts: &[Token], at: &mut usize, names: &mut Names) -> Result<Value, Error> {
-    if let Some(n) = signed_number(ts, at) {
-        let (v, fixed, col, len) = n?;
-        if fixed {
-            return err(col, len, "a fixed literal needs a fixed destination");
-        }
-        if !(i128::from(i32::MIN)..=i128::from(u32::MAX)).contains(&v) {
-            return err(col, len, "32-bit value out of range (−2147483648..4294967295)");
-        }
-        return Ok(Value::Imm(i64::from(v as u32 as i32)));
-    }
-    if *at >= ts.len() {
-        let col = ts.last().map_or(1, |t| t.col + t.len);
-        return err(col, 1, "expected a value");
-    }
-    let t = ts[*at].clone();
-    let op = names.operand(ts, at)?;
-    if op.bits() != 32 {
-        return err(t.col, t.len, "16/32-bit width mismatch: a 32-bit operand is needed here");
+    if op.bits() != bits {
+        let hint = if bits == 16 { " (use X(L) or X(H))" } else { "" };
+        return err(
+            t.col,
+            t.len,
+            format!("16/32-bit width mismatch: a {bits}-bit operand is needed here{hint}"),
+        );
     }
     Ok(Value::Var(op))
 }
@@ -581,7 +567,7 @@ fn statement(ts: &[Token], names: &mut Names, line: usize) -> Result<Option<Op>,
             }
         }
         "*" => {
-            let b = value16(ts, &mut at, names)?;
+            let b = value_of_width(ts, &mut at, names, 16)?;
             let (left, n) = if punct(ts, at, "<<") || punct(ts, at, ">>") {
                 let left = punct(ts, at, "<<");
                 at += 1;
@@ -731,7 +717,7 @@ fn mnemonic(ts: &[Token], names: &mut Names, upper: &str) -> Result<Op, Error> {
         "UPD" | "STOP" if punct(ts, 1, "!") => return not_supported(first, &format!("{upper}!")),
         "UPD" => Op::Upd,
         "STOP" => Op::Stop,
-        "SAP" => Op::Sap(value32(ts, &mut at, names)?),
+        "SAP" => Op::Sap(value_of_width(ts, &mut at, names, 32)?),
         "AXISON" => Op::Axis(true),
         "AXISOFF" => Op::Axis(false),
         "BEGIN" | "ENDINIT" | "NOP" => Op::Nop,
@@ -801,7 +787,7 @@ fn event(ts: &[Token], names: &mut Names) -> Result<Op, Error> {
     let mut at = 2;
     let spec = match upper.as_str() {
         "MC" => EventSpec::MotionComplete,
-        "RT" => EventSpec::Time(value32(ts, &mut at, names)?),
+        "RT" => EventSpec::Time(value_of_width(ts, &mut at, names, 32)?),
         "IN" => {
             if !punct(ts, 2, "#") {
                 return err(t.col, t.len, "expected IN#n (an input 0..15)");
