@@ -1089,8 +1089,10 @@ fn a_tml_program_steps_and_shows_fixed_values_and_preg() {
     }
     let m = h.state().debugger.machine();
     assert_eq!(m.steps(), 3);
-    // The fixed variable reads as Q16.16 in the table, under its declared name.
+    // The fixed variable reads as Q16.16 in the table, under its declared name, in the
+    // group of the program's variables.
     h.get_by_label("speed");
+    h.get_by_label("Variables");
     h.get_by_label("26.666702");
     // PREG = 1747629 × 10 as 32.16: PRODH is the integer part, 266.
     h.get_by_label("Product register");
@@ -1107,4 +1109,9 @@ fn a_tml_program_steps_and_shows_fixed_values_and_preg() {
     // Sixteen inputs do not all fit the toolbar: those the program uses, and "+" for others.
     assert!(h.query_by_label("IN#0").is_none());
     h.get_by_label("+");
+    // ... and all sixteen in the Drive panel.
+    h.get_by_label("Input IN#5").click();
+    h.run_steps(2);
+    let m = h.state().debugger.machine();
+    assert_eq!(m.read(m.find("IN#5").unwrap()), 1);
 }

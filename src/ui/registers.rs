@@ -4,7 +4,7 @@
 
 use std::collections::BTreeMap;
 
-use egui::{RichText, Sense, Vec2, vec2};
+use egui::{RichText, Sense, Stroke, Vec2, vec2};
 use egui_extras::{Column, TableBuilder};
 
 use super::theme::palette;
@@ -401,6 +401,7 @@ fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView) {
     let rows = visible_locations(m, view.only_used);
     let written = m.last_written();
     let names = m.program_names();
+    let spaces = m.spaces();
     let row_height = ui.text_style_height(&egui::TextStyle::Monospace) + 4.0;
     let mut clicked: Option<Loc> = None;
     // Cells are read, not selected: clicks go to the row (select) and its context menu.
@@ -434,7 +435,21 @@ fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView) {
                 let colour = if fresh { p.written } else { p.text };
                 let format = view.format_of(loc, &info);
                 row.set_selected(view.selected == Some(loc));
+                // Each storage space is a group of its own (TML's variables apart from its
+                // predefined data): a line above its first row, its title in the Name column.
+                let index = row.index();
+                let space_title = (index > 0 && rows[index - 1].space != loc.space)
+                    .then(|| spaces.get(usize::from(loc.space)).map(|s| s.title))
+                    .flatten();
+                let group_line = |ui: &mut egui::Ui| {
+                    if space_title.is_some() {
+                        let r = ui.max_rect();
+                        ui.painter()
+                            .hline(r.x_range(), r.top(), Stroke::new(1.0, p.dim));
+                    }
+                };
                 row.col(|ui| {
+                    group_line(ui);
                     let mut text = RichText::new(&info.name).monospace().color(colour);
                     if fresh {
                         text = text.strong();
@@ -442,12 +457,13 @@ fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView) {
                     ui.label(text);
                 });
                 row.col(|ui| {
+                    group_line(ui);
                     // A TML variable's location is its name already: no second copy.
                     let own = names
                         .iter()
                         .find(|(n, l)| *l == loc && *n != info.name)
                         .map(|(n, _)| n.as_str());
-                    let name = info.alias.or(own).unwrap_or("");
+                    let name = info.alias.or(own).or(space_title).unwrap_or("");
                     ui.label(RichText::new(name).small().color(p.dim));
                 });
                 row.col(|ui| {

@@ -144,7 +144,7 @@ impl DialectPanel for DrivePanel {
     fn title(&self) -> &'static str {
         "Drive"
     }
-    fn show(&mut self, ui: &mut egui::Ui, debugger: &Debugger, _: f32, _: &mut Vec<Command>) {
+    fn show(&mut self, ui: &mut egui::Ui, debugger: &Debugger, _: f32, out: &mut Vec<Command>) {
         let Some(m) = debugger.machine_as::<Tml>() else {
             return;
         };
@@ -153,6 +153,35 @@ impl DialectPanel for DrivePanel {
             .id_salt("drive_scroll")
             .auto_shrink([false, false])
             .show(ui, |ui| {
+                // All sixteen inputs as switches (the toolbar shows only those in use).
+                ui.horizontal_wrapped(|ui| {
+                    ui.label("Inputs");
+                    ui.spacing_mut().item_spacing.x = 2.0;
+                    for n in 0..super::INPUTS {
+                        let high = m.input(n);
+                        let button = egui::Button::new(RichText::new(format!("{n}")).monospace())
+                            .selected(high)
+                            .min_size(vec2(22.0, 18.0));
+                        let r = ui.add(button).on_hover_text(format!(
+                            "IN#{n} is {}: click to switch it",
+                            if high { "high" } else { "low" }
+                        ));
+                        r.widget_info(|| {
+                            egui::WidgetInfo::selected(
+                                egui::Role::CheckBox,
+                                true,
+                                high,
+                                format!("Input IN#{n}"),
+                            )
+                        });
+                        if r.clicked()
+                            && let Some(loc) = m.find(&format!("IN#{n}"))
+                        {
+                            out.push(Command::SetInput(loc, !high));
+                        }
+                    }
+                });
+                ui.separator();
                 let event = match m.event {
                     None => "none".to_string(),
                     Some(Event::MotionComplete) => "!MC (motion complete)".into(),
