@@ -108,6 +108,44 @@ fn benches(c: &mut Criterion) {
         })
     });
     group.finish();
+
+    // OpenNet: scans of 100 instructions.
+    const SCANS: u64 = 10_000;
+    let mut group = c.benchmark_group("opennet");
+    group.throughput(Throughput::Elements(SCANS));
+    let start = servoscope::machine::opennet::dialect::machine(&opennet_program())
+        .expect("bench program assembles");
+    group.bench_function("100-instruction arithmetic scan with REP (scans)", |b| {
+        b.iter(|| {
+            let mut m = start.clone();
+            m.run_until(SCANS, |_| false);
+            black_box(m.d[0])
+        })
+    });
+    group.finish();
+}
+
+/// A 100-instruction OpenNet scan: one condition, then 99 advanced instructions of every type,
+/// a third of them with REP 4.
+fn opennet_program() -> String {
+    let mut src = String::from("LODN M0\n");
+    let forms = [
+        "ADD(W) D100(R) D0 D0 REP 4",
+        "ADD(I) D1 7 D1",
+        "SUB(L) D2 3 D2",
+        "MUL(W) D10 D11 D20",
+        "DIV(I) D1 5 D30",
+        "MOV(D) D2(R) D40(R) REP 4",
+        "ADD(D) D50 65537 D50",
+        "INC(W) D60",
+        "SUB(W) D100(R) D61 D62(R) REP 4",
+    ];
+    for i in 0..99 {
+        src.push_str(forms[i % forms.len()]);
+        src.push('\n');
+    }
+    src.push_str("END\n");
+    src
 }
 
 /// Ten statements a round: 16- and 32-bit adds, a multiply into PREG, a fixed division, a

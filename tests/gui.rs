@@ -1115,3 +1115,46 @@ fn a_tml_program_steps_and_shows_fixed_values_and_preg() {
     let m = h.state().debugger.machine();
     assert_eq!(m.read(m.find("IN#5").unwrap()), 1);
 }
+
+/// Issue #12: an execution error with "Break on error" set stops the run on that scan, and
+/// "Clear errors" turns the lamp off.
+#[test]
+fn break_on_error_stops_the_run_on_the_erring_scan() {
+    let opennet = servoscope::machine::registry::by_name("opennet").expect("registered");
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.load_program_as(
+        opennet,
+        "err.opennet",
+        "LOD I0\nDIV(W) 1 0 D0\nLOD M8121\nINC(W) D1\nEND",
+    );
+    let mut h = harness(app);
+    h.get_by_label("Break on error").click();
+    h.run_steps(2);
+    assert!(h.state().debugger.break_on_error());
+    h.state_mut().debugger.set_speed(Speed::Unlimited);
+    h.key_press(Key::F5);
+    h.run_steps(3);
+    assert!(h.state().debugger.is_running(), "no error yet: it runs");
+    // Switch I0 on: the next scan divides by zero and the run stops in it.
+    let i0 = h.state().debugger.machine().find("I0").unwrap();
+    h.state_mut().apply(
+        &egui::Context::default(),
+        servoscope::ui::Command::SetInput(i0, true),
+    );
+    h.run_steps(4);
+    let d = &h.state().debugger;
+    assert!(!d.is_running(), "stopped by the error");
+    let m = d
+        .machine_as::<servoscope::machine::opennet::OpenNet>()
+        .unwrap();
+    let e = m.last_error.expect("an error record");
+    assert_eq!(e.kind, "divide_by_zero");
+    assert_eq!(e.tick, m.ticks(), "stopped inside the scan that erred");
+    assert_eq!(m.step, 2, "right after the DIV");
+    h.get_by_label_contains("Execution error: stopped before line 3");
+    h.get_by_label("M8004 ERROR");
+    h.get_by_label("Clear errors").click();
+    h.run_steps(2);
+    assert!(!h.state().debugger.machine().error_lamp());
+    h.get_by_label("M8004 no error");
+}

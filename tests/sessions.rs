@@ -300,9 +300,25 @@ fn every_example_session_is_tested() {
             "fifo_queue_lesson.ron",
             "fixed_point_lesson.ron",
             "homing_on_input.ron",
+            "opennet_overflow_lesson.ron",
             "tml_fixed_point_lesson.ron"
         ]
     );
+}
+
+/// The OpenNet lesson opens just after ADD(I) 30000 + 5000 overflowed: stored 0x08B8, M8003 on.
+#[test]
+fn opennet_lesson_opens_after_the_overflow() {
+    let (s, d) = example_in("sessions", "opennet_overflow_lesson.ron");
+    let m = d
+        .machine_as::<servoscope::machine::opennet::OpenNet>()
+        .expect("an OpenNet machine");
+    assert_eq!(m.pos(), servoscope::machine::Pos { tick: 0, step: 4 });
+    assert_eq!(m.d[2], 0x08B8);
+    assert!(m.special[servoscope::machine::opennet::M8003]);
+    assert_eq!(d.machine().last_line(), Some(6), "the ADD(I) just ran");
+    assert!(d.breakpoints().contains(&6));
+    assert_eq!(s.view.selected.as_deref(), Some("D2"));
 }
 
 /// The TML lesson opens just after the fixed × int multiply: PREG holds the 32.16 product and

@@ -22,13 +22,15 @@ pub struct StopWhen<'a> {
     pub any: bool,
     /// Do not stop at the very first boundary (resuming from a breakpoint).
     pub skip_first: bool,
+    /// Stop when the machine's error lamp is on (set only when it was off as the run began).
+    pub on_error: bool,
 }
 
 impl StopWhen<'_> {
     /// Whether to stop before the instruction `m` is about to run.
     #[inline]
     pub fn holds<M: MachineView + ?Sized>(&self, m: &M) -> bool {
-        if self.any {
+        if self.any || (self.on_error && m.error_lamp()) {
             return true;
         }
         if let Some(after) = self.after

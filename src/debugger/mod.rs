@@ -47,6 +47,9 @@ pub struct Debugger {
     goal: Option<Goal>,
     /// Skip the breakpoint on the current line once (resuming from it).
     resume_past_breakpoint: bool,
+    /// Stop a run when the machine's error lamp turns on (OpenNet's M8004).
+    break_on_error: bool,
+    lamp_was_on: bool,
     speed: Speed,
     /// Commands owed at slow speeds (fractions carry over between frames).
     credit: f64,
@@ -126,6 +129,8 @@ impl Debugger {
             breakpoints: BTreeSet::new(),
             goal: None,
             resume_past_breakpoint: false,
+            break_on_error: false,
+            lamp_was_on: false,
             speed: Speed::PerSecond(10.0),
             credit: 0.0,
             event: None,

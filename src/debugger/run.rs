@@ -66,6 +66,8 @@ pub enum Goal {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Event {
     Breakpoint(usize),
+    /// "Break on error": the error lamp turned on; the line is the next instruction's.
+    ErrorLamp(usize),
     ReachedLine(usize),
     ReachedTick(u64),
     Paused(Option<usize>),
@@ -87,6 +89,7 @@ impl Event {
     pub fn describe(&self) -> String {
         match self {
             Event::Breakpoint(l) => format!("Breakpoint hit at line {l}"),
+            Event::ErrorLamp(l) => format!("Execution error: stopped before line {l}"),
             Event::ReachedLine(l) => format!("Reached line {l}"),
             Event::ReachedTick(t) => format!("At tick {t}"),
             Event::Paused(Some(l)) => format!("Paused at line {l}"),
@@ -157,6 +160,7 @@ impl Debugger {
         self.credit = 0.0;
         self.resume_past_breakpoint = true;
         self.event = None;
+        self.lamp_was_on = self.machine().error_lamp();
     }
 
     /// Stop running (F6). Answers at once: the run only advances inside `advance`.
@@ -176,6 +180,15 @@ impl Debugger {
             self.restart();
         }
         self.event = Some(Event::Reset);
+    }
+
+    /// Stop a run when the machine's error lamp turns on.
+    pub fn set_break_on_error(&mut self, on: bool) {
+        self.break_on_error = on;
+    }
+
+    pub fn break_on_error(&self) -> bool {
+        self.break_on_error
     }
 
     pub fn set_speed(&mut self, speed: Speed) {
@@ -237,6 +250,8 @@ impl Debugger {
             }
         };
         let table = self.breakpoint_table();
+        // Break on error stops when the lamp turns on: not if it was on as the run began.
+        let on_error = self.break_on_error && !self.lamp_was_on;
         let line = match goal {
             Goal::ToLine(l) => Some(l),
             _ => None,
@@ -272,6 +287,7 @@ impl Debugger {
                         breakpoints: &table,
                         line,
                         skip_first: skip,
+                        on_error,
                         ..StopWhen::default()
                     },
                 ),
@@ -279,6 +295,7 @@ impl Debugger {
                     let at_stop = StopWhen {
                         breakpoints: &table,
                         line,
+                        on_error,
                         ..StopWhen::default()
                     };
                     if !skip && at_stop.holds(self.machine()) {
@@ -324,6 +341,10 @@ impl Debugger {
             Goal::FinishStep => Event::Stepped,
             Goal::ToTick(t) => Event::ReachedTick(t),
             Goal::ToLine(l) if l == line => Event::ReachedLine(line),
+            _ if self.break_on_error && self.machine().error_lamp() && !self.lamp_was_on => {
+                self.engine.mark(MarkKind::Fault, line);
+                Event::ErrorLamp(line)
+            }
             _ => {
                 self.engine.mark(MarkKind::Breakpoint, line);
                 Event::Breakpoint(line)
@@ -352,6 +373,7 @@ impl Debugger {
                 _ => None,
             },
             skip_first: std::mem::take(&mut self.resume_past_breakpoint),
+            on_error: self.break_on_error && !self.machine().error_lamp(),
             ..StopWhen::default()
         };
         match self.engine.forward(target, &stop) {

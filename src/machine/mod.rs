@@ -18,7 +18,7 @@ pub mod value;
 
 // The dialects: each a folder `src/machine/<name>/` whose `dialect::DIALECT` describes it.
 // Adding a dialect is adding its name here.
-registry::dialects!(silverlode, tml);
+registry::dialects!(silverlode, tml, opennet);
 
 use std::any::Any;
 
@@ -267,6 +267,11 @@ pub trait MachineView: Send + 'static {
     fn report_json(&self) -> String;
     /// The dialect's lines of the runner's text report.
     fn report_text(&self) -> String;
+
+    /// The controller's error lamp (OpenNet's M8004): "break on error" stops when it turns on.
+    fn error_lamp(&self) -> bool {
+        false
+    }
 
     /// Values the plot marks with a horizontal line on its first plot (TML: the profile's end
     /// position), with their labels.

@@ -78,6 +78,8 @@ pub enum Command {
     SetDark(bool),
     OpenSettings,
     SetSettings(Settings),
+    /// Stop a run when the machine's error lamp turns on.
+    SetBreakOnError(bool),
     /// Close (false) or reopen (true) a panel.
     ShowPane(layout::Pane, bool),
     ResetLayout,
@@ -668,6 +670,7 @@ impl ServoscopeApp {
             Command::CancelPending => self.pending = None,
             Command::SetDark(dark) => self.prefs.dark = dark,
             Command::ShowPane(pane, shown) => self.layout.set_shown(&pane, shown),
+            Command::SetBreakOnError(on) => self.debugger.set_break_on_error(on),
             Command::ResetLayout => {
                 let titles: Vec<&str> = self.panels.iter().map(|p| p.title()).collect();
                 self.layout = layout::Layout::standard(&titles);

@@ -1,0 +1,65 @@
+//! OpenNet's entry in the dialect registry.
+
+use std::sync::Arc;
+
+use super::{OpenNet, assemble};
+use crate::machine::registry::{AtLimit, ChannelSpec, Dialect, OpenResult, Settings, Vocabulary};
+
+pub static DIALECT: Dialect = Dialect {
+    name: "opennet",
+    display_name: "IDEC OpenNet",
+    extensions: &["opennet"],
+    vocabulary: Vocabulary {
+        tick: "scan",
+        ticks: "scans",
+        step: "instruction",
+        steps: "instructions",
+    },
+    examples: &[
+        (
+            "totaliser.opennet",
+            include_str!("../../../assets/examples/totaliser.opennet"),
+        ),
+        (
+            "signed_overflow.opennet",
+            include_str!("../../../assets/examples/signed_overflow.opennet"),
+        ),
+        (
+            "mul_div.opennet",
+            include_str!("../../../assets/examples/mul_div.opennet"),
+        ),
+        (
+            "batch_sotu.opennet",
+            include_str!("../../../assets/examples/batch_sotu.opennet"),
+        ),
+        (
+            "exec_error.opennet",
+            include_str!("../../../assets/examples/exec_error.opennet"),
+        ),
+    ],
+    lessons: &[(
+        "opennet_overflow_lesson.ron",
+        include_str!("../../../sessions/opennet_overflow_lesson.ron"),
+    )],
+    settings: &[],
+    default_channels: &[ChannelSpec {
+        location: "D0",
+        label: "D0",
+        group: 0,
+    }],
+    default_max_ticks: 1,
+    at_limit: AtLimit::Ended,
+    new_program: "; A new OpenNet program\nLOD I0\nOUT Q0\nEND\n",
+    open,
+    classify: super::syntax::classify,
+    #[cfg(feature = "gui")]
+    panels: super::panels::panels,
+};
+
+pub fn machine(source: &str) -> Result<OpenNet, Vec<crate::machine::Diagnostic>> {
+    Ok(OpenNet::new(Arc::new(assemble(source)?)))
+}
+
+fn open(source: &str, _settings: &Settings) -> OpenResult {
+    machine(source).map(crate::debugger::engine)
+}
