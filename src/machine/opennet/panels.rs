@@ -174,7 +174,7 @@ impl DialectPanel for LogicPanel {
             .auto_shrink([false, false])
             .show(ui, |ui| {
                 let error = m.special[M8004];
-                ui.horizontal(|ui| {
+                ui.horizontal_wrapped(|ui| {
                     let (fill, text) = if error {
                         (p.error, "M8004 ERROR")
                     } else {
