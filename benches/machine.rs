@@ -123,6 +123,20 @@ fn benches(c: &mut Criterion) {
         })
     });
     group.finish();
+
+    // DL205: scans of 100 instructions of math rungs.
+    let mut group = c.benchmark_group("dl205");
+    group.throughput(Throughput::Elements(SCANS));
+    let start = servoscope::machine::dl205::dialect::machine(&dl205_program())
+        .expect("bench program assembles");
+    group.bench_function("100-instruction math rung scan (scans)", |b| {
+        b.iter(|| {
+            let mut m = start.clone();
+            m.run_until(SCANS, |_| false);
+            black_box(m.acc)
+        })
+    });
+    group.finish();
 }
 
 /// A 100-instruction OpenNet scan: one condition, then 99 advanced instructions of every type,
@@ -144,6 +158,30 @@ fn opennet_program() -> String {
         src.push_str(forms[i % forms.len()]);
         src.push('\n');
     }
+    src.push_str("END\n");
+    src
+}
+
+/// A 100-instruction DL205 scan: rungs of loads, BCD and binary math and outs.
+fn dl205_program() -> String {
+    let mut src = String::from("STR SP0\nLD K1234\nOUT V0\nLDD K00125000\nOUTD V2\n");
+    let rung = [
+        "STR SP1", "LDD V2", "ADDD K1", "OUTD V2", "LD V0", "MUL K3", "DIV K7", "OUT V10", "POP",
+        "OUT V11", "LDD V2", "LDD K400", "SUBS", "BIN", "ADDB K5", "OUTD V20", "LD V0", "SHFL K2",
+        "OUT V30",
+    ];
+    let mut count = 5;
+    'fill: loop {
+        for i in rung {
+            if count == 99 {
+                break 'fill;
+            }
+            src.push_str(i);
+            src.push('\n');
+            count += 1;
+        }
+    }
+    // The last rung needs an output before END.
     src.push_str("END\n");
     src
 }

@@ -48,8 +48,8 @@ fn every_dialect_describes_itself_fully() {
         let settings = d.default_settings();
         // The debugger stands on an empty program before anything assembles.
         assert!(
-            (d.open)("", &settings).is_ok(),
-            "{}: an empty program assembles",
+            (d.open)(d.empty_program, &settings).is_ok(),
+            "{}: its empty program assembles",
             d.name
         );
         assert_eq!(settings.len(), d.settings.len(), "{}", d.name);

@@ -1158,3 +1158,40 @@ fn break_on_error_stops_the_run_on_the_erring_scan() {
     assert!(!h.state().debugger.machine().error_lamp());
     h.get_by_label("M8004 no error");
 }
+
+/// Issue #11: a DL205 scan stepped instruction by instruction, the accumulator stack panel
+/// showing each push and pop.
+#[test]
+fn a_dl205_scan_steps_through_the_stack_panel() {
+    let dl205 = servoscope::machine::registry::by_name("dl205").expect("registered");
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.load_program_as(
+        dl205,
+        "subs.dl205",
+        "STR SP1\nLDD K00172056\nLDD K00395026\nSUBS\nOUTD V1500\nEND",
+    );
+    let mut h = harness(app);
+    h.get_by_label("Accumulator stack");
+    for _ in 0..3 {
+        h.key_press(Key::F10);
+        h.run_steps(2);
+    }
+    // The second load pushed the first into L1.
+    h.get_by_label("00172056 pushed in");
+    h.get_by_label("load pending: the next load pushes ACC");
+    let m = h.state().debugger.machine();
+    assert_eq!(m.read(m.find("L1").unwrap()), 0x0017_2056);
+    h.key_press(Key::F10);
+    h.run_steps(2);
+    h.get_by_label("00172056 popped; levels rose");
+    let m = h.state().debugger.machine();
+    assert_eq!(m.read(m.find("ACC").unwrap()), 0x0022_2970);
+    assert_eq!(m.pos(), servoscope::machine::Pos { tick: 0, step: 4 });
+    // The rung panel shows the power after each instruction so far.
+    h.get_by_label_contains("SP1 is closed");
+    // Step back inside the scan: the push is back.
+    h.state_mut().debugger.step_back_command();
+    h.run_steps(2);
+    let m = h.state().debugger.machine();
+    assert_eq!(m.read(m.find("L1").unwrap()), 0x0017_2056);
+}

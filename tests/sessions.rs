@@ -299,11 +299,29 @@ fn every_example_session_is_tested() {
         [
             "fifo_queue_lesson.ron",
             "fixed_point_lesson.ron",
+            "dl205_subs_lesson.ron",
             "homing_on_input.ron",
             "opennet_overflow_lesson.ron",
             "tml_fixed_point_lesson.ron"
         ]
     );
+}
+
+/// The DL205 lesson opens on the SUBS with all eight stack levels full.
+#[test]
+fn dl205_lesson_opens_on_subs_with_the_stack_full() {
+    let (_, mut d) = example_in("sessions", "dl205_subs_lesson.ron");
+    let m = d
+        .machine_as::<servoscope::machine::dl205::Dl205>()
+        .expect("a DL205 machine");
+    assert_eq!(m.depth, 8);
+    assert_eq!(m.stack[0], 0x0017_2056);
+    assert_eq!(m.stack[7], 1);
+    assert_eq!(d.machine().pc_line(), Some(18), "SUBS is next");
+    assert!(d.breakpoints().contains(&18));
+    d.step_command();
+    let m = d.machine_as::<servoscope::machine::dl205::Dl205>().unwrap();
+    assert_eq!((m.acc, m.depth), (0x0022_2970, 7));
 }
 
 /// The OpenNet lesson opens just after ADD(I) 30000 + 5000 overflowed: stored 0x08B8, M8003 on.

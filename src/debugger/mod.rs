@@ -82,11 +82,14 @@ impl ChannelChoice {
 
 /// An empty program of `dialect`, for the moments before anything assembles.
 fn empty_engine(dialect: &Dialect, settings: &Settings) -> Box<dyn Engine> {
-    match (dialect.open)("", settings) {
+    match (dialect.open)(dialect.empty_program, settings) {
         Ok(engine) => engine,
-        // Every dialect accepts the empty program; fall back to the default one's if not.
-        Err(_) => (registry::default_dialect().open)("", settings)
-            .unwrap_or_else(|_| unreachable!("the default dialect accepts an empty program")),
+        // Every dialect accepts its empty program (a test asserts it); the default one's if not.
+        Err(_) => {
+            let default = registry::default_dialect();
+            (default.open)(default.empty_program, settings)
+                .unwrap_or_else(|_| unreachable!("the default dialect accepts its empty program"))
+        }
     }
 }
 
@@ -156,7 +159,7 @@ impl Debugger {
         let source = source.into();
         let settings = dialect.settings_from(settings);
         let engine = (dialect.open)(&source, &settings)?;
-        let mut d = Debugger::with_dialect(dialect, name, "");
+        let mut d = Debugger::with_dialect(dialect, name, dialect.empty_program);
         d.assembled_source = source.clone();
         d.source = source;
         d.settings = settings;

@@ -18,7 +18,7 @@ pub mod value;
 
 // The dialects: each a folder `src/machine/<name>/` whose `dialect::DIALECT` describes it.
 // Adding a dialect is adding its name here.
-registry::dialects!(silverlode, tml, opennet);
+registry::dialects!(silverlode, tml, opennet, dl205);
 
 use std::any::Any;
 

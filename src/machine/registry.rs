@@ -101,6 +101,9 @@ pub struct Dialect {
     pub at_limit: AtLimit,
     /// A starting text for File → New.
     pub new_program: &'static str,
+    /// The shortest text that assembles to a program doing nothing: what the debugger stands on
+    /// while the user's text does not assemble ("" for most; DL205 requires END).
+    pub empty_program: &'static str,
     /// Assemble `source` into a machine with these settings.
     pub open: fn(source: &str, settings: &Settings) -> OpenResult,
     /// Colour class of every character of one line (without its newline).

@@ -282,6 +282,7 @@ pub static SCANNED: Dialect = Dialect {
     default_max_ticks: 1,
     at_limit: AtLimit::Ended,
     new_program: "END\n",
+    empty_program: "",
     open,
     classify: plain,
     #[cfg(feature = "gui")]

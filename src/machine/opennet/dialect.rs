@@ -50,6 +50,7 @@ pub static DIALECT: Dialect = Dialect {
     default_max_ticks: 1,
     at_limit: AtLimit::Ended,
     new_program: "; A new OpenNet program\nLOD I0\nOUT Q0\nEND\n",
+    empty_program: "",
     open,
     classify: super::syntax::classify,
     #[cfg(feature = "gui")]

@@ -112,6 +112,7 @@ pub static DIALECT: Dialect = Dialect {
     default_max_ticks: 10_000_000,
     at_limit: AtLimit::Limit,
     new_program: "; A new SilverLode program\nWRP 11, 1\nEND\n",
+    empty_program: "",
     open,
     classify: super::syntax::classify,
     #[cfg(feature = "gui")]

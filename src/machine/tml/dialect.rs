@@ -53,6 +53,7 @@ pub static DIALECT: Dialect = Dialect {
     default_max_ticks: 10_000_000,
     at_limit: AtLimit::Limit,
     new_program: "// A new TML program\nint i;\n\n        i = 1;\n        END;\n",
+    empty_program: "",
     open,
     classify: super::syntax::classify,
     #[cfg(feature = "gui")]

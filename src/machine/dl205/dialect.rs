@@ -1,0 +1,57 @@
+//! DL205's entry in the dialect registry.
+
+use std::sync::Arc;
+
+use super::{Dl205, assemble};
+use crate::machine::registry::{AtLimit, ChannelSpec, Dialect, OpenResult, Settings, Vocabulary};
+
+pub static DIALECT: Dialect = Dialect {
+    name: "dl205",
+    display_name: "AutomationDirect DL205",
+    extensions: &["dl205"],
+    vocabulary: Vocabulary {
+        tick: "scan",
+        ticks: "scans",
+        step: "instruction",
+        steps: "instructions",
+    },
+    examples: &[
+        ("subs.dl205", include_str!("../../../assets/examples/subs.dl205")),
+        (
+            "totaliser.dl205",
+            include_str!("../../../assets/examples/totaliser.dl205"),
+        ),
+        (
+            "scaling.dl205",
+            include_str!("../../../assets/examples/scaling.dl205"),
+        ),
+        ("latch.dl205", include_str!("../../../assets/examples/latch.dl205")),
+        ("nonbcd.dl205", include_str!("../../../assets/examples/nonbcd.dl205")),
+    ],
+    lessons: &[(
+        "dl205_subs_lesson.ron",
+        include_str!("../../../sessions/dl205_subs_lesson.ron"),
+    )],
+    settings: &[],
+    default_channels: &[ChannelSpec {
+        location: "ACC",
+        label: "ACC",
+        group: 0,
+    }],
+    default_max_ticks: 1,
+    at_limit: AtLimit::Ended,
+    new_program: "// A new DL205 program\nSTR X0\nOUT Y0\nEND\n",
+    empty_program: "END\n",
+    open,
+    classify: super::syntax::classify,
+    #[cfg(feature = "gui")]
+    panels: super::panels::panels,
+};
+
+pub fn machine(source: &str) -> Result<Dl205, Vec<crate::machine::Diagnostic>> {
+    Ok(Dl205::new(Arc::new(assemble(source)?)))
+}
+
+fn open(source: &str, _settings: &Settings) -> OpenResult {
+    machine(source).map(crate::debugger::engine)
+}

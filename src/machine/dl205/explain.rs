@@ -1,0 +1,70 @@
+//! The last instruction in words, with its values (spec issue: "SUBS: ACC 00395026 − L1
+//! 00172056 = 00222970 (BCD); pop: L1 ← L2 … L8 ← 0").
+
+use super::program::{Math, Op, Src, Test, bit_name};
+use super::{Dl205, StackMove};
+
+fn stack_note(m: &Dl205) -> String {
+    match m.moved {
+        StackMove::None => String::new(),
+        StackMove::Push { entered, lost } => {
+            format!("; push {entered:08X} to L1 (L8 {lost:08X} falls off)")
+        }
+        StackMove::Pop { .. } => "; pop: L1 ← L2 … L8 ← 0".into(),
+        StackMove::Overwrite { value } => format!("; L1 = remainder {value:08X}"),
+    }
+}
+
+pub fn explain(m: &Dl205) -> Option<String> {
+    let ins = m.program.instrs.get(m.last? as usize)?;
+    let name = ins.mnemonic.as_str();
+    let text = ins.text.as_str();
+    let (a, l1) = m.before;
+    let power = m.power.get(m.last? as usize).copied().flatten().unwrap_or(false);
+    Some(match ins.op {
+        Op::Str(t) | Op::And(t) | Op::Or(t) => {
+            let what = match t {
+                Test::Bit(b, neg) => format!("{}{} = {}", if neg { "NOT " } else { "" }, bit_name(b), u8::from(m.bit(b) != neg)),
+                Test::Compare(..) => "compare".into(),
+            };
+            format!("{text}: {what}; rung power {}", u8::from(power))
+        }
+        Op::AndStr | Op::OrStr => format!("{text}: rung power {}", u8::from(power)),
+        Op::Coil(b) => format!("{text}: {} = {}", bit_name(b), u8::from(m.bit(b))),
+        Op::End => format!("END: scan {} done", m.tick.saturating_sub(1)),
+        Op::Nop => "NOP".into(),
+        _ if !m.last_ran => format!("{text}: rung not powered, skipped"),
+        Op::Ld(_) | Op::Ldd(_) | Op::Lda(_) | Op::Ldf(..) => match m.moved {
+            StackMove::Push { .. } => format!("{text}: load pending → push ACC {a:08X} to L1; ACC = {:08X}", m.acc),
+            _ => format!("{text}: ACC = {:08X}", m.acc),
+        },
+        Op::OutV(_) | Op::OutD(_) | Op::OutF(..) => format!("{text}: ACC {:08X} out; the next load will not push", m.acc),
+        Op::Pop => format!("POP: ACC = L1 {:08X}; L1 ← L2 … L8 ← 0", m.acc),
+        Op::Bcd(op, src) | Op::Binary(op, src) => {
+            let bcd = matches!(ins.op, Op::Bcd(..));
+            if bcd && m.sp[super::program::sp::SP75] && m.acc == a && m.moved == StackMove::None && m.sp75_line == Some(ins.line) {
+                return Some(format!("{text}: a non-BCD digit: SP75 = 1, nothing else changed"));
+            }
+            if m.sp[super::program::sp::SP53] && m.sp53_line == Some(ins.line) && m.acc == a && m.moved == StackMove::None {
+                return Some(format!("{text}: divide by zero: SP53 = 1, nothing else changed"));
+            }
+            let sign = match op {
+                Math::Add => "+",
+                Math::Sub => "−",
+                Math::Mul => "×",
+                Math::Div => "÷",
+            };
+            let operand = match src {
+                Src::Stack => format!("L1 {l1:08X}"),
+                _ => text.split_whitespace().nth(1).unwrap_or("").to_string(),
+            };
+            format!(
+                "{name}: ACC {a:08X} {sign} {operand} = {:08X}{}{}",
+                m.acc,
+                if bcd { " (BCD)" } else { "" },
+                stack_note(m)
+            )
+        }
+        _ => format!("{text}: ACC = {:08X}{}", m.acc, stack_note(m)),
+    })
+}

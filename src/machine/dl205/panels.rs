@@ -1,0 +1,201 @@
+//! DL205's own panels (built with the window only): the accumulator stack, and the current
+//! rung's power flow.
+
+use egui::{Color32, RichText};
+
+use super::program::{Op, Test, bit_name};
+use super::{Dl205, LEVELS, StackMove, bcd_value};
+use crate::debugger::Debugger;
+use crate::machine::MachineView;
+use crate::ui::Command;
+use crate::ui::panels::DialectPanel;
+use crate::ui::theme::palette;
+
+pub fn panels() -> Vec<Box<dyn DialectPanel>> {
+    vec![Box::new(StackPanel::default()), Box::new(RungPanel)]
+}
+
+fn bcd_text(v: u32) -> String {
+    match bcd_value(v, 8) {
+        Some(n) => format!("{n}"),
+        None => "not BCD".into(),
+    }
+}
+
+#[derive(Default)]
+pub struct StackPanel {
+    pair: String,
+}
+
+impl DialectPanel for StackPanel {
+    fn title(&self) -> &'static str {
+        "Accumulator stack"
+    }
+    fn show(&mut self, ui: &mut egui::Ui, debugger: &Debugger, _: f32, _: &mut Vec<Command>) {
+        let Some(m) = debugger.machine_as::<Dl205>() else {
+            return;
+        };
+        let p = palette(ui.visuals().dark_mode);
+        egui::ScrollArea::vertical()
+            .id_salt("dl205_stack")
+            .auto_shrink([false, false])
+            .show(ui, |ui| {
+                ui.label(
+                    RichText::new(if m.load_pending {
+                        "load pending: the next load pushes ACC"
+                    } else {
+                        "no load pending: the next load replaces ACC"
+                    })
+                    .color(if m.load_pending { p.written } else { p.dim }),
+                );
+                egui::Grid::new("dl205_levels")
+                    .num_columns(4)
+                    .spacing([12.0, 2.0])
+                    .show(ui, |ui| {
+                        for h in ["", "hex", "BCD", ""] {
+                            ui.strong(h);
+                        }
+                        ui.end_row();
+                        let acc_note = match m.moved {
+                            StackMove::Pop { .. } if matches!(m.program.instrs.get(m.last.unwrap_or(0) as usize).map(|i| i.op), Some(Op::Pop)) => "L1 rose into ACC",
+                            _ if m.acc != m.before.0 => "changed",
+                            _ => "",
+                        };
+                        ui.monospace(RichText::new("ACC").strong());
+                        ui.monospace(format!("{:08X}", m.acc));
+                        ui.monospace(bcd_text(m.acc));
+                        ui.label(RichText::new(acc_note).color(p.written));
+                        ui.end_row();
+                        for level in 0..LEVELS {
+                            let v = m.stack[level];
+                            let used = level < m.depth as usize;
+                            let colour = if used { p.text } else { p.dim.gamma_multiply(0.6) };
+                            let note = match (m.moved, level) {
+                                (StackMove::Push { entered, .. }, 0) => format!("{entered:08X} pushed in"),
+                                (StackMove::Push { lost, .. }, 7) => format!("{lost:08X} fell off the bottom"),
+                                (StackMove::Pop { value }, 0) => format!("{value:08X} popped; levels rose"),
+                                (StackMove::Overwrite { value }, 0) => format!("overwritten: {value:08X}"),
+                                _ => String::new(),
+                            };
+                            ui.monospace(RichText::new(format!("L{}", level + 1)).color(colour));
+                            ui.monospace(RichText::new(format!("{v:08X}")).color(colour));
+                            ui.monospace(RichText::new(bcd_text(v)).color(colour));
+                            ui.label(RichText::new(note).small().color(p.written));
+                            ui.end_row();
+                        }
+                    });
+                ui.label(
+                    RichText::new(format!("depth {} of {LEVELS}", m.depth))
+                        .small()
+                        .color(p.dim),
+                );
+                ui.separator();
+                ui.horizontal(|ui| {
+                    let label = ui.label("V pair");
+                    ui.add(egui::TextEdit::singleline(&mut self.pair).desired_width(70.0))
+                        .labelled_by(label.id);
+                    if let Some(loc) = super::view::parse_name(&self.pair)
+                        && loc.space == super::view::V
+                        && (loc.index as usize) + 1 < super::V_WORDS
+                    {
+                        let v = m.pair(loc.index);
+                        ui.monospace(format!("{v:08X} = BCD {} = {v}", bcd_text(v)));
+                    }
+                });
+                for (flag, line, name) in [
+                    (super::program::sp::SP53, m.sp53_line, "SP53 divide by zero"),
+                    (super::program::sp::SP75, m.sp75_line, "SP75 non-BCD data"),
+                ] {
+                    if m.sp[flag] {
+                        ui.label(
+                            RichText::new(format!(
+                                "{name}, set on line {}",
+                                line.map_or("?".into(), |l| l.to_string())
+                            ))
+                            .color(p.error),
+                        );
+                    }
+                }
+            });
+    }
+}
+
+pub struct RungPanel;
+
+impl DialectPanel for RungPanel {
+    fn title(&self) -> &'static str {
+        "Rung power"
+    }
+    fn show(&mut self, ui: &mut egui::Ui, debugger: &Debugger, _: f32, _: &mut Vec<Command>) {
+        let Some(m) = debugger.machine_as::<Dl205>() else {
+            return;
+        };
+        let p = palette(ui.visuals().dark_mode);
+        let instrs = &m.program.instrs;
+        // The rung around the current (or last) instruction: from its first STR after an
+        // output, to the instruction before the next rung's start.
+        let at = m.last.map_or(0, |l| l as usize).min(instrs.len().saturating_sub(1));
+        let mut start = at;
+        while start > 0 {
+            let starts_rung = matches!(instrs[start].op, Op::Str(_))
+                && (start == 0 || instrs[..start].iter().rev().take_while(|i| !i.op.is_output()).all(|i| !matches!(i.op, Op::Str(_))) && instrs[start - 1].op.is_output());
+            if starts_rung {
+                break;
+            }
+            start -= 1;
+        }
+        let mut end = at + 1;
+        while end < instrs.len() {
+            if matches!(instrs[end].op, Op::Str(_)) && instrs[end - 1].op.is_output() {
+                break;
+            }
+            end += 1;
+        }
+        egui::ScrollArea::vertical()
+            .id_salt("dl205_rung")
+            .auto_shrink([false, false])
+            .show(ui, |ui| {
+                ui.label(
+                    RichText::new(format!("scan {}, instruction {}", m.tick, m.step)).color(p.dim),
+                );
+                for (i, ins) in instrs.iter().enumerate().take(end).skip(start) {
+                    let power = m.power.get(i).copied().flatten();
+                    let (dot, colour) = match power {
+                        Some(true) => ("[1]", Color32::from_rgb(60, 170, 90)),
+                        Some(false) => ("[0]", p.dim),
+                        None => ("[ ]", p.dim),
+                    };
+                    let contact = match ins.op {
+                        Op::Str(Test::Bit(b, neg)) | Op::And(Test::Bit(b, neg)) | Op::Or(Test::Bit(b, neg)) => {
+                            format!("  {} is {}", bit_name(b), if m.bit(b) != neg { "closed" } else { "open" })
+                        }
+                        _ => String::new(),
+                    };
+                    let skipped = ins.op.is_output()
+                        && !matches!(ins.op, Op::Coil(_))
+                        && power == Some(false);
+                    let mut text = RichText::new(format!("{dot} {}{contact}", ins.text)).monospace();
+                    text = if skipped {
+                        text.color(p.dim).italics()
+                    } else {
+                        text.color(colour)
+                    };
+                    let row = ui.label(text);
+                    if skipped {
+                        row.on_hover_text("Not powered: skipped this scan");
+                    }
+                }
+                ui.separator();
+                let stack: Vec<&str> = m
+                    .bstack
+                    .iter()
+                    .map(|b| if *b { "1" } else { "0" })
+                    .collect();
+                ui.monospace(format!(
+                    "boolean stack: {}",
+                    if stack.is_empty() { "empty".into() } else { stack.join(" ") }
+                ));
+                let _ = m.pc_line();
+            });
+    }
+}

@@ -1,0 +1,343 @@
+//! DL205's face for the debugger and the runner (spec §3, §8).
+
+use std::any::Any;
+use std::fmt::Write;
+
+use super::program::{Bit, Kind, SPECIAL, bit_name};
+use super::{Dl205, LEVELS, V_WORDS};
+use crate::machine::{
+    BitInfo, FaultInfo, Format, Loc, LocInfo, Machine, MachineView, Pos, RunState, SpaceInfo,
+    SpaceKind, StopReason, WriteError,
+};
+
+pub const ACC: u8 = 0;
+pub const V: u8 = 1;
+pub const X: u8 = 2;
+pub const Y: u8 = 3;
+pub const C: u8 = 4;
+pub const SP: u8 = 5;
+
+const SP_DESCRIPTIONS: [&str; 11] = [
+    "on during the first scan",
+    "always on",
+    "divide by zero",
+    "the result is zero",
+    "borrow out of the low word",
+    "borrow out of the 32-bit value",
+    "carry out of the low word",
+    "carry out of the 32-bit value",
+    "bit 31 of ACC (negative)",
+    "signed overflow of a binary add",
+    "a BCD instruction met a non-BCD digit",
+];
+
+const NO_BITS: &[BitInfo] = &[];
+
+pub fn kind_space(kind: Kind) -> u8 {
+    match kind {
+        Kind::X => X,
+        Kind::Y => Y,
+        Kind::C => C,
+        Kind::Sp => SP,
+    }
+}
+
+pub fn bit_loc(b: Bit) -> Loc {
+    Loc::new(kind_space(b.kind), b.n)
+}
+
+/// `V1400`, `X17`, `SP53`, `ACC`, `L3` → its location.
+pub fn parse_name(name: &str) -> Option<Loc> {
+    let upper = name.trim().to_ascii_uppercase();
+    if upper == "ACC" {
+        return Some(Loc::new(ACC, 0));
+    }
+    let letters: String = upper.chars().take_while(|c| c.is_ascii_alphabetic()).collect();
+    let digits = &upper[letters.len()..];
+    if digits.is_empty() || digits.len() > 7 || !digits.chars().all(|c| c.is_ascii_digit()) {
+        return None;
+    }
+    if letters == "L" {
+        let n: u32 = digits.parse().ok()?;
+        return (1..=LEVELS as u32).contains(&n).then(|| Loc::new(ACC, n));
+    }
+    let n = u32::from_str_radix(digits, 8).ok()?;
+    match letters.as_str() {
+        "V" if (n as usize) < V_WORDS => Some(Loc::new(V, n)),
+        "X" if n < Kind::X.count() => Some(Loc::new(X, n)),
+        "Y" if n < Kind::Y.count() => Some(Loc::new(Y, n)),
+        "C" if n < Kind::C.count() => Some(Loc::new(C, n)),
+        "SP" => SPECIAL
+            .iter()
+            .position(|&s| s == n)
+            .map(|i| Loc::new(SP, i as u32)),
+        _ => None,
+    }
+}
+
+impl MachineView for Dl205 {
+    fn dialect(&self) -> &'static str {
+        "dl205"
+    }
+    fn tick_micros(&self) -> u32 {
+        10_000
+    }
+    fn spaces(&self) -> Vec<SpaceInfo> {
+        vec![
+            SpaceInfo {
+                name: "acc",
+                title: "Accumulator and stack",
+                kind: SpaceKind::Registers,
+                len: 1 + LEVELS as u32,
+            },
+            SpaceInfo {
+                name: "V",
+                title: "V-memory",
+                kind: SpaceKind::Registers,
+                len: V_WORDS as u32,
+            },
+            SpaceInfo {
+                name: "X",
+                title: "Inputs",
+                kind: SpaceKind::Inputs,
+                len: Kind::X.count(),
+            },
+            SpaceInfo {
+                name: "Y",
+                title: "Outputs",
+                kind: SpaceKind::Bits,
+                len: Kind::Y.count(),
+            },
+            SpaceInfo {
+                name: "C",
+                title: "Control relays",
+                kind: SpaceKind::Bits,
+                len: Kind::C.count(),
+            },
+            SpaceInfo {
+                name: "SP",
+                title: "Special relays",
+                kind: SpaceKind::Flags,
+                len: SPECIAL.len() as u32,
+            },
+        ]
+    }
+    fn info(&self, loc: Loc) -> Option<LocInfo> {
+        let i = loc.index;
+        let bit = |name: String, description: &'static str, editable: bool| LocInfo {
+            name,
+            alias: None,
+            description,
+            width: 1,
+            signed: false,
+            format: None,
+            bits: NO_BITS,
+            editable,
+        };
+        match loc.space {
+            ACC if i == 0 => Some(LocInfo {
+                description: "accumulator",
+                format: Some(Format::Hex),
+                editable: false,
+                ..LocInfo::word("ACC".into(), 32, false)
+            }),
+            ACC if (i as usize) <= LEVELS => Some(LocInfo {
+                description: "accumulator stack level",
+                format: Some(Format::Hex),
+                editable: false,
+                ..LocInfo::word(format!("L{i}"), 32, false)
+            }),
+            V if (i as usize) < V_WORDS => Some(LocInfo {
+                description: "V-memory word",
+                format: Some(Format::Hex),
+                ..LocInfo::word(format!("V{i:o}"), 16, false)
+            }),
+            X if i < Kind::X.count() => Some(bit(format!("X{i:o}"), "input", true)),
+            Y if i < Kind::Y.count() => Some(bit(format!("Y{i:o}"), "output", true)),
+            C if i < Kind::C.count() => Some(bit(format!("C{i:o}"), "control relay", true)),
+            SP => SPECIAL
+                .get(i as usize)
+                .map(|&n| bit(format!("SP{n:o}"), SP_DESCRIPTIONS[i as usize], false)),
+            _ => None,
+        }
+    }
+    fn read(&self, loc: Loc) -> u64 {
+        let i = loc.index as usize;
+        match loc.space {
+            ACC if i == 0 => u64::from(self.acc),
+            ACC => self.stack.get(i - 1).map_or(0, |&v| u64::from(v)),
+            V => self.v.get(i).map_or(0, |&v| u64::from(v)),
+            X => u64::from(self.x.get(i).copied().unwrap_or(false)),
+            Y => u64::from(self.y.get(i).copied().unwrap_or(false)),
+            C => u64::from(self.c.get(i).copied().unwrap_or(false)),
+            SP => u64::from(self.sp.get(i).copied().unwrap_or(false)),
+            _ => 0,
+        }
+    }
+    fn write(&mut self, loc: Loc, value: u64) -> Result<(), WriteError> {
+        let info = self.info(loc).ok_or(WriteError::NoSuchLocation)?;
+        if !info.editable {
+            return Err(WriteError::ReadOnly(info.name));
+        }
+        if value >> info.width != 0 {
+            return Err(WriteError::TooWide {
+                name: info.name,
+                value,
+                width: info.width,
+            });
+        }
+        let i = loc.index as usize;
+        let on = value != 0;
+        match loc.space {
+            V => self.v[i] = value as u16,
+            X => self.x[i] = on,
+            Y => self.y[i] = on,
+            C => self.c[i] = on,
+            _ => return Err(WriteError::NoSuchLocation),
+        }
+        Ok(())
+    }
+    fn find(&self, name: &str) -> Option<Loc> {
+        parse_name(name)
+    }
+    fn used(&self) -> Vec<Loc> {
+        let mut out: Vec<Loc> = (0..=LEVELS as u32).map(|i| Loc::new(ACC, i)).collect();
+        out.extend(self.program.used_v.iter().map(|&n| Loc::new(V, n)));
+        out.extend(self.program.used_bits.iter().map(|&b| bit_loc(b)));
+        out.extend((0..SPECIAL.len() as u32).map(|i| Loc::new(SP, i)));
+        out
+    }
+    fn program_names(&self) -> Vec<(String, Loc)> {
+        Vec::new()
+    }
+    fn pc_line(&self) -> Option<usize> {
+        self.program.instrs.get(self.pc as usize).map(|i| i.line)
+    }
+    fn call_stack_lines(&self) -> Vec<usize> {
+        Vec::new()
+    }
+    fn run_state(&self) -> RunState {
+        RunState::Running
+    }
+    fn fault(&self) -> Option<FaultInfo> {
+        None
+    }
+    fn pos(&self) -> Pos {
+        Pos {
+            tick: self.tick,
+            step: self.step,
+        }
+    }
+    fn steps(&self) -> u64 {
+        self.steps
+    }
+    fn last_written(&self) -> Vec<Loc> {
+        use super::program::Op;
+        let Some(ins) = self.last.and_then(|i| self.program.instrs.get(i as usize)) else {
+            return Vec::new();
+        };
+        let mut out = Vec::new();
+        if self.acc != self.before.0 || self.moved != super::StackMove::None {
+            out.push(Loc::new(ACC, 0));
+            out.extend((1..=LEVELS as u32).map(|i| Loc::new(ACC, i)));
+        }
+        match ins.op {
+            Op::OutV(a) | Op::IncB(a) | Op::DecB(a) if self.last_ran => out.push(Loc::new(V, a)),
+            Op::OutD(a) if self.last_ran => out.extend([Loc::new(V, a), Loc::new(V, a + 1)]),
+            Op::Coil(b) => out.push(bit_loc(b)),
+            Op::Set(a, b) | Op::Rst(a, b) if self.last_ran => {
+                out.extend((a.n..=b.n).map(|n| Loc::new(kind_space(a.kind), n)));
+            }
+            Op::OutF(e, n) if self.last_ran => {
+                out.extend((e.n..e.n + u32::from(n)).map(|i| Loc::new(kind_space(e.kind), i)));
+            }
+            _ => {}
+        }
+        out
+    }
+    fn explain_last(&self) -> Option<String> {
+        super::explain::explain(self)
+    }
+    fn last_line(&self) -> Option<usize> {
+        self.last
+            .and_then(|i| self.program.instrs.get(i as usize))
+            .map(|i| i.line)
+    }
+    fn report_json(&self) -> String {
+        let mut regs = vec![format!("\"ACC\":{}", self.acc)];
+        regs.extend(
+            self.stack
+                .iter()
+                .enumerate()
+                .map(|(i, v)| format!("\"L{}\":{v}", i + 1)),
+        );
+        regs.extend(
+            self.v
+                .iter()
+                .enumerate()
+                .filter(|(_, v)| **v != 0)
+                .map(|(i, v)| format!("\"V{i:o}\":{v}")),
+        );
+        let flags: Vec<String> = SPECIAL
+            .iter()
+            .enumerate()
+            .map(|(i, n)| format!("\"SP{n:o}\":{}", u8::from(self.sp[i])))
+            .collect();
+        let mut bits = Vec::new();
+        for (kind, values) in [(Kind::X, &self.x_image), (Kind::Y, &self.y), (Kind::C, &self.c)] {
+            for (i, _) in values.iter().enumerate().filter(|(_, b)| **b) {
+                bits.push(format!(
+                    "\"{}\":1",
+                    bit_name(Bit {
+                        kind,
+                        n: i as u32
+                    })
+                ));
+            }
+        }
+        format!(
+            "\"registers\":{{{}}},\"flags\":{{{}}},\"bits\":{{{}}},\"stack_depth\":{}",
+            regs.join(","),
+            flags.join(","),
+            bits.join(","),
+            self.depth
+        )
+    }
+    fn report_text(&self) -> String {
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "ACC: {:08X}  stack ({}): {}",
+            self.acc,
+            self.depth,
+            self.stack
+                .iter()
+                .map(|v| format!("{v:08X}"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        );
+        let v: Vec<String> = self
+            .v
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| **v != 0)
+            .map(|(i, v)| format!("V{i:o}={v:04X}"))
+            .collect();
+        let _ = writeln!(out, "V-memory (non-zero, hex): {}", v.join(" "));
+        out
+    }
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+impl Machine for Dl205 {
+    fn run_observed<F: FnMut(&Self) -> bool, O: FnMut(&Self)>(
+        &mut self,
+        limit: Pos,
+        stop: F,
+        observe: O,
+    ) -> StopReason {
+        self.run_loop(limit, stop, observe)
+    }
+}
