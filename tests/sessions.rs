@@ -297,9 +297,9 @@ fn every_example_session_is_tested() {
     assert_eq!(
         names,
         [
+            "dl205_subs_lesson.ron",
             "fifo_queue_lesson.ron",
             "fixed_point_lesson.ron",
-            "dl205_subs_lesson.ron",
             "homing_on_input.ron",
             "opennet_overflow_lesson.ron",
             "tml_fixed_point_lesson.ron"
