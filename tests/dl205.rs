@@ -467,3 +467,31 @@ fn the_examples_end_as_their_comments_say() {
     assert_eq!(get(&m, "Y1"), 1);
     assert_eq!(m.acc, 0x1A);
 }
+
+#[test]
+fn the_code_view_gets_the_rung_power_of_each_line() {
+    use servoscope::machine::LinePower::{Off, On, Skipped};
+    let mut m = machine("STR X0\nOUT Y0\nLD K5\nOUT V0\nSTR SP1\nOUT Y1\nEND").unwrap();
+    m.step_command(1);
+    m.step_command(1);
+    m.step_command(1);
+    assert_eq!(
+        m.line_power(),
+        [(1, Off), (2, Off), (3, Skipped)],
+        "only what ran so far"
+    );
+    m.run_until(1, |_| false);
+    // After END the next scan has not started: the whole scan's power is still shown.
+    let power = m.line_power();
+    assert_eq!(
+        &power[..6],
+        [
+            (1, Off),
+            (2, Off),
+            (3, Skipped),
+            (4, Skipped),
+            (5, On),
+            (6, On)
+        ]
+    );
+}

@@ -182,6 +182,15 @@ impl LocInfo {
     }
 }
 
+/// The rung power after an instruction, as the code view shows it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LinePower {
+    On,
+    Off,
+    /// An output on an unpowered rung: it did nothing this scan.
+    Skipped,
+}
+
 /// A fault as a user reads it.
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
 pub struct FaultInfo {
@@ -267,6 +276,12 @@ pub trait MachineView: Send + 'static {
     fn report_json(&self) -> String;
     /// The dialect's lines of the runner's text report.
     fn report_text(&self) -> String;
+
+    /// Rung power per source line at this point of the scan (ladder dialects; DL205): shown in
+    /// the code view's gutter, outputs skipped on an unpowered rung greyed.
+    fn line_power(&self) -> Vec<(usize, LinePower)> {
+        Vec::new()
+    }
 
     /// The controller's error lamp (OpenNet's M8004): "break on error" stops when it turns on.
     fn error_lamp(&self) -> bool {

@@ -469,9 +469,17 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                 // Every row's place comes from the laid-out text itself (rows are placed on
                 // whole pixels, so a computed `line × height` drifts in long programs).
                 let rows = LineRows::of(&output.galley, output.galley_pos, text_left);
+                // Outputs skipped on an unpowered rung are greyed over.
+                let skipped: Vec<(Option<usize>, egui::Color32)> = machine
+                    .line_power()
+                    .into_iter()
+                    .filter(|(_, s)| *s == crate::machine::LinePower::Skipped)
+                    .map(|(l, _)| (Some(l), p.dim.gamma_multiply(0.25)))
+                    .collect();
                 let fills: Vec<egui::Shape> =
                     [(pc_line, p.current_line), (fault_line, p.fault_line)]
                         .into_iter()
+                        .chain(skipped)
                         .filter_map(|(line, fill)| {
                             let rect = rows
                                 .rect(line?)?
@@ -737,6 +745,7 @@ fn gutter_ui(
 ) {
     let clip = ui.clip_rect();
     let error_lines: Vec<usize> = debugger.diagnostics().iter().map(|d| d.line).collect();
+    let power = debugger.machine().line_power();
     for line in rows.visible(clip.top(), clip.bottom()) {
         let Some(text_row) = rows.rect(line) else {
             continue;
@@ -783,6 +792,18 @@ fn gutter_ui(
                 p.written,
                 Stroke::NONE,
             ));
+        }
+        // Rung power after this line's instruction (ladder dialects): a bar at the gutter's edge.
+        if let Some((_, state)) = power.iter().find(|(l, _)| *l == line) {
+            let colour = match state {
+                crate::machine::LinePower::On => p.bit_on,
+                crate::machine::LinePower::Off | crate::machine::LinePower::Skipped => p.dim,
+            };
+            let bar = Rect::from_min_max(
+                pos2(row.right() - 3.0, row.top() + 2.0),
+                pos2(row.right() - 1.0, row.bottom() - 2.0),
+            );
+            painter.rect_filled(bar, 0.0, colour);
         }
         let number_color = if has_error { p.error } else { p.dim };
         painter.text(

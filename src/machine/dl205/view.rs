@@ -255,6 +255,30 @@ impl MachineView for Dl205 {
         }
         out
     }
+    fn line_power(&self) -> Vec<(usize, crate::machine::LinePower)> {
+        use crate::machine::LinePower;
+        self.program
+            .instrs
+            .iter()
+            .zip(&self.power)
+            .filter_map(|(ins, power)| {
+                let on = (*power)?;
+                let skipped = !on
+                    && ins.op.is_output()
+                    && !matches!(ins.op, super::program::Op::Coil(_));
+                Some((
+                    ins.line,
+                    if skipped {
+                        LinePower::Skipped
+                    } else if on {
+                        LinePower::On
+                    } else {
+                        LinePower::Off
+                    },
+                ))
+            })
+            .collect()
+    }
     fn explain_last(&self) -> Option<String> {
         super::explain::explain(self)
     }
