@@ -232,6 +232,16 @@ proptest! {
     }
 
     #[test]
+    fn mutated_programs_never_panic(cut in 0usize..600, insert in "[ -~]{0,6}") {
+        let base = include_str!("../assets/examples/subs.dl205");
+        let at = base.char_indices().map(|(i, _)| i).nth(cut % base.chars().count()).unwrap_or(0);
+        let text = format!("{}{insert}{}", &base[..at], &base[at..]);
+        if let Ok(mut m) = machine(&text) {
+            m.run_until(2, |_| false);
+        }
+    }
+
+    #[test]
     fn random_text_never_panics(text in "[ -~\\n]{0,200}") {
         if let Ok(mut m) = machine(&text) {
             m.run_until(2, |_| false);
