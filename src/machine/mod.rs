@@ -320,6 +320,71 @@ pub fn find_by_name<M: MachineView + ?Sized>(m: &M, name: &str) -> Option<Loc> {
         .map(|(_, loc)| loc)
 }
 
+/// The checks every user edit passes: the location exists, may be written, and `value` fits
+/// its width. Returns its description.
+pub fn check_write<M: MachineView + ?Sized>(
+    m: &M,
+    loc: Loc,
+    value: u64,
+) -> Result<LocInfo, WriteError> {
+    let info = m.info(loc).ok_or(WriteError::NoSuchLocation)?;
+    if !info.editable {
+        return Err(WriteError::ReadOnly(info.name));
+    }
+    if info.width < 64 && value >> info.width != 0 {
+        return Err(WriteError::TooWide {
+            name: info.name,
+            value,
+            width: info.width,
+        });
+    }
+    Ok(info)
+}
+
+/// The steps of a scanned PLC (OpenNet, DL205), for the run loop they share.
+pub trait ScanSteps: MachineView {
+    fn has_instructions(&self) -> bool;
+    /// The scan's start: input image, first-scan relays, cleared logic state.
+    fn start_scan(&mut self);
+    /// Run the instruction at the program counter; after the scan's last one the tick
+    /// counter moves on and the step returns to 0.
+    fn run_instruction(&mut self);
+    /// Count a scan of a program with no instructions.
+    fn complete_empty_scan(&mut self);
+}
+
+/// The run loop of a scanned PLC: `stop` is asked before every instruction, `observe` after
+/// every completed scan.
+pub fn run_scans<M: ScanSteps, F: FnMut(&M) -> bool, O: FnMut(&M)>(
+    m: &mut M,
+    limit: Pos,
+    mut stop: F,
+    mut observe: O,
+) -> StopReason {
+    loop {
+        if m.pos() >= limit {
+            return StopReason::TickLimit;
+        }
+        if !m.has_instructions() {
+            m.start_scan();
+            m.complete_empty_scan();
+            observe(m);
+            continue;
+        }
+        if stop(m) {
+            return StopReason::Predicate;
+        }
+        if m.pos().step == 0 {
+            m.start_scan();
+        }
+        let tick = m.ticks();
+        m.run_instruction();
+        if m.ticks() > tick {
+            observe(m);
+        }
+    }
+}
+
 /// Every location of every space, for views and reports that list them all.
 pub fn all_locations(m: &dyn MachineView) -> Vec<Loc> {
     m.spaces()

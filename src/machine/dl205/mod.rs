@@ -21,7 +21,6 @@ use std::sync::Arc;
 pub use assembler::assemble;
 use program::{Bit, Cmp, D, Kind, Logic, Math, Op, Program, ShiftKind, Src, Test, W, sp};
 
-use crate::machine::{MachineView, Pos, StopReason};
 
 pub const V_WORDS: usize = 0o40000;
 pub const LEVELS: usize = 8;
@@ -520,35 +519,20 @@ impl Dl205 {
         self.rung_has_output = false;
         self.power.iter_mut().for_each(|p| *p = None);
     }
+}
 
-    pub fn run_loop<F: FnMut(&Self) -> bool, O: FnMut(&Self)>(
-        &mut self,
-        limit: Pos,
-        mut stop: F,
-        mut observe: O,
-    ) -> StopReason {
-        loop {
-            if self.pos() >= limit {
-                return StopReason::TickLimit;
-            }
-            if self.program.instrs.is_empty() {
-                self.scan_start();
-                self.tick += 1;
-                observe(self);
-                continue;
-            }
-            if stop(self) {
-                return StopReason::Predicate;
-            }
-            if self.step == 0 {
-                self.scan_start();
-            }
-            let tick = self.tick;
-            self.execute();
-            if self.tick > tick {
-                observe(self);
-            }
-        }
+impl crate::machine::ScanSteps for Dl205 {
+    fn has_instructions(&self) -> bool {
+        !self.program.instrs.is_empty()
+    }
+    fn start_scan(&mut self) {
+        self.scan_start();
+    }
+    fn run_instruction(&mut self) {
+        self.execute();
+    }
+    fn complete_empty_scan(&mut self) {
+        self.tick += 1;
     }
 }
 

@@ -22,7 +22,6 @@ use std::sync::Arc;
 pub use assembler::assemble;
 use program::{Area, Arith, Bit, Op, Program, Ty, Word};
 
-use crate::machine::{MachineView, Pos, StopReason};
 
 pub const REGISTERS: usize = 8000;
 pub const STACK_DEPTH: usize = 8;
@@ -428,36 +427,20 @@ impl OpenNet {
             self.tick += 1;
         }
     }
+}
 
-    pub fn run_loop<F: FnMut(&Self) -> bool, O: FnMut(&Self)>(
-        &mut self,
-        limit: Pos,
-        mut stop: F,
-        mut observe: O,
-    ) -> StopReason {
-        loop {
-            if self.pos() >= limit {
-                return StopReason::TickLimit;
-            }
-            if self.program.instrs.is_empty() {
-                // A scan of nothing.
-                self.refresh();
-                self.tick += 1;
-                observe(self);
-                continue;
-            }
-            if stop(self) {
-                return StopReason::Predicate;
-            }
-            if self.step == 0 {
-                self.refresh();
-            }
-            let tick = self.tick;
-            self.execute();
-            if self.tick > tick {
-                observe(self);
-            }
-        }
+impl crate::machine::ScanSteps for OpenNet {
+    fn has_instructions(&self) -> bool {
+        !self.program.instrs.is_empty()
+    }
+    fn start_scan(&mut self) {
+        self.refresh();
+    }
+    fn run_instruction(&mut self) {
+        self.execute();
+    }
+    fn complete_empty_scan(&mut self) {
+        self.tick += 1;
     }
 }
 

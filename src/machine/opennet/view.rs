@@ -162,17 +162,7 @@ impl MachineView for OpenNet {
         }
     }
     fn write(&mut self, loc: Loc, value: u64) -> Result<(), WriteError> {
-        let info = self.info(loc).ok_or(WriteError::NoSuchLocation)?;
-        if !info.editable {
-            return Err(WriteError::ReadOnly(info.name));
-        }
-        if value >> info.width != 0 {
-            return Err(WriteError::TooWide {
-                name: info.name,
-                value,
-                width: info.width,
-            });
-        }
+        crate::machine::check_write(self, loc, value)?;
         let i = loc.index as usize;
         let on = value != 0;
         match loc.space {
@@ -353,6 +343,6 @@ impl Machine for OpenNet {
         stop: F,
         observe: O,
     ) -> StopReason {
-        self.run_loop(limit, stop, observe)
+        crate::machine::run_scans(self, limit, stop, observe)
     }
 }

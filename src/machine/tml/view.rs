@@ -245,17 +245,7 @@ impl MachineView for Tml {
         }
     }
     fn write(&mut self, loc: Loc, value: u64) -> Result<(), WriteError> {
-        let info = self.info(loc).ok_or(WriteError::NoSuchLocation)?;
-        if !info.editable {
-            return Err(WriteError::ReadOnly(info.name));
-        }
-        if info.width < 64 && value >> info.width != 0 {
-            return Err(WriteError::TooWide {
-                name: info.name,
-                value,
-                width: info.width,
-            });
-        }
+        crate::machine::check_write(self, loc, value)?;
         let i = loc.index as usize;
         match loc.space {
             DATA if loc.index == PREG_INDEX => self.preg = value,
