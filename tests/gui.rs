@@ -1109,7 +1109,9 @@ fn a_tml_program_steps_and_shows_fixed_values_and_preg() {
     // Sixteen inputs do not all fit the toolbar: those the program uses, and "+" for others.
     assert!(h.query_by_label("IN#0").is_none());
     h.get_by_label("+");
-    // ... and all sixteen in the Drive panel.
+    // ... and all sixteen in the Drive panel, a tab beside the product register's.
+    h.get_by_label("Drive").click();
+    h.run_steps(2);
     h.get_by_label("Input IN#5").click();
     h.run_steps(2);
     let m = h.state().debugger.machine();
@@ -1128,6 +1130,9 @@ fn break_on_error_stops_the_run_on_the_erring_scan() {
         "LOD I0\nDIV(W) 1 0 D0\nLOD M8121\nINC(W) D1\nEND",
     );
     let mut h = harness(app);
+    // The dialect's panels stack as tabs: bring "Logic and errors" to the front.
+    h.get_by_label("Logic and errors").click();
+    h.run_steps(2);
     h.get_by_label("Break on error").click();
     h.run_steps(2);
     assert!(h.state().debugger.break_on_error());
@@ -1187,7 +1192,9 @@ fn a_dl205_scan_steps_through_the_stack_panel() {
     let m = h.state().debugger.machine();
     assert_eq!(m.read(m.find("ACC").unwrap()), 0x0022_2970);
     assert_eq!(m.pos(), servoscope::machine::Pos { tick: 0, step: 4 });
-    // The rung panel shows the power after each instruction so far.
+    // The rung panel (the stack panel's neighbour tab) shows the power after each instruction.
+    h.get_by_label("Rung power").click();
+    h.run_steps(2);
     h.get_by_label_contains("SP1 is closed");
     // Step back inside the scan: the push is back.
     h.state_mut().debugger.step_back_command();

@@ -393,3 +393,19 @@ fn the_queue_header_decode_is_in_view_at_the_default_size() {
         );
     }
 }
+
+/// Every dialect's panels fit the smallest window beside the common ones.
+#[test]
+fn every_dialect_fits_the_smallest_window() {
+    for dialect in servoscope::machine::registry::DIALECTS {
+        let (name, text) = dialect.examples[0];
+        let mut app = ServoscopeApp::new(Prefs::default());
+        app.load_program_as(dialect, name, text);
+        let mut h = harness_sized(app, 900.0, 600.0);
+        for _ in 0..3 {
+            h.key_press(Key::F10);
+            h.run_steps(2);
+        }
+        assert_sound_layout(h.state(), (900.0, 600.0));
+    }
+}

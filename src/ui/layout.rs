@@ -86,10 +86,17 @@ impl Layout {
         let program = tiles.insert_pane(Pane::Program);
         let timeline = tiles.insert_pane(Pane::Timeline);
         let plot = tiles.insert_pane(Pane::Plot);
-        let mut lower: Vec<TileId> = dialect_panels
+        let panes: Vec<TileId> = dialect_panels
             .iter()
             .map(|t| tiles.insert_pane(Pane::Dialect((*t).to_string())))
             .collect();
+        // A dialect's panels stack as tabs beside the plot: the smallest window has room for
+        // one panel there, not three.
+        let mut lower: Vec<TileId> = match panes.len() {
+            0 => Vec::new(),
+            1 => panes,
+            _ => vec![tiles.insert_tab_tile(panes)],
+        };
         let beside_plot = lower.clone();
         lower.push(plot);
         let lower = tiles.insert_horizontal_tile(lower);
@@ -155,10 +162,11 @@ impl Layout {
         }
     }
 
-    /// Swap the dialect panels in the layout for `titles` (another dialect's): a panel of the
-    /// old dialect gives its place to the first new one, the rest join the plot's container.
+    /// Swap the dialect panels in the layout for `titles` (another dialect's). Panels of this
+    /// dialect the user arranged stay where they are; another dialect's are replaced by this
+    /// one's, stacked as tabs beside the plot (the smallest window has room for one there).
     pub fn sync_dialect_panels(&mut self, titles: &[&str]) {
-        let old: Vec<(TileId, String)> = self
+        let present: Vec<(TileId, String)> = self
             .tree
             .tiles
             .iter()
@@ -167,43 +175,43 @@ impl Layout {
                 _ => None,
             })
             .collect();
-        let mut missing: Vec<&str> = titles
-            .iter()
-            .copied()
-            .filter(|t| !old.iter().any(|(_, o)| o == t))
-            .collect();
-        for (id, title) in old {
-            if titles.contains(&title.as_str()) {
-                continue;
-            }
-            if missing.is_empty() {
-                self.tree.remove_recursively(id);
-            } else {
-                let new = missing.remove(0);
-                self.tree
-                    .tiles
-                    .insert(id, egui_tiles::Tile::Pane(Pane::Dialect(new.to_string())));
-            }
+        let foreign = present.iter().any(|(_, t)| !titles.contains(&t.as_str()));
+        if !foreign && !present.is_empty() {
+            return;
         }
-        for title in missing {
-            let id = self
-                .tree
-                .tiles
-                .insert_pane(Pane::Dialect(title.to_string()));
-            // Beside the plot: in the container that holds it (past its own tab, if it has
-            // one yet).
-            let tiles = &self.tree.tiles;
-            let host = tiles
-                .find_pane(&Pane::Plot)
-                .and_then(|plot| tiles.parent_of(plot))
-                .and_then(|p| match tiles.get_container(p) {
-                    Some(egui_tiles::Container::Tabs(_)) => tiles.parent_of(p),
-                    _ => Some(p),
-                })
-                .or(self.tree.root());
-            match host.and_then(|h| self.tree.tiles.get_mut(h)) {
-                Some(egui_tiles::Tile::Container(c)) => c.add_child(id),
-                _ => self.set_shown(&Pane::Dialect(title.to_string()), true),
+        for (id, _) in present {
+            self.tree.remove_recursively(id);
+        }
+        if titles.is_empty() {
+            return;
+        }
+        let ids: Vec<TileId> = titles
+            .iter()
+            .map(|t| self.tree.tiles.insert_pane(Pane::Dialect((*t).to_string())))
+            .collect();
+        let group = if ids.len() == 1 {
+            ids[0]
+        } else {
+            self.tree.tiles.insert_tab_tile(ids)
+        };
+        // Beside the plot: in the container that holds it (past its own tab, if it has one).
+        let tiles = &self.tree.tiles;
+        let host = tiles
+            .find_pane(&Pane::Plot)
+            .and_then(|plot| tiles.parent_of(plot))
+            .and_then(|p| match tiles.get_container(p) {
+                Some(egui_tiles::Container::Tabs(_)) => tiles.parent_of(p),
+                _ => Some(p),
+            })
+            .or(self.tree.root());
+        match host.and_then(|h| self.tree.tiles.get_mut(h)) {
+            Some(egui_tiles::Tile::Container(c)) => c.add_child(group),
+            _ => {
+                if let Some(egui_tiles::Tile::Container(c)) =
+                    self.tree.root().and_then(|r| self.tree.tiles.get_mut(r))
+                {
+                    c.add_child(group);
+                }
             }
         }
     }
