@@ -1201,4 +1201,8 @@ fn a_dl205_scan_steps_through_the_stack_panel() {
     h.run_steps(2);
     let m = h.state().debugger.machine();
     assert_eq!(m.read(m.find("L1").unwrap()), 0x0017_2056);
+    // The status bar speaks of scans.
+    h.state_mut().debugger.goto_tick(0);
+    h.run_steps(2);
+    h.get_by_label("At scan 0");
 }

@@ -62,7 +62,7 @@ fn busy_debugger() -> Debugger {
     d.run();
     while d.advance(0.016, Duration::from_secs(5)) {}
     assert_eq!(
-        d.event().map(|e| e.describe()),
+        d.event().map(|e| e.describe("tick")),
         Some("Breakpoint hit at line 5".to_string())
     );
     d.goto_tick(CHECKPOINT_EVERY + 123);

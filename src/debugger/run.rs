@@ -86,12 +86,13 @@ pub enum Event {
 }
 
 impl Event {
-    pub fn describe(&self) -> String {
+    /// The event in words; `tick` is the dialect's word for a tick ("tick" or "scan").
+    pub fn describe(&self, tick: &str) -> String {
         match self {
             Event::Breakpoint(l) => format!("Breakpoint hit at line {l}"),
             Event::ErrorLamp(l) => format!("Execution error: stopped before line {l}"),
             Event::ReachedLine(l) => format!("Reached line {l}"),
-            Event::ReachedTick(t) => format!("At tick {t}"),
+            Event::ReachedTick(t) => format!("At {tick} {t}"),
             Event::Paused(Some(l)) => format!("Paused at line {l}"),
             Event::Paused(None) => "Paused".to_string(),
             Event::Stepped => "Stepped".to_string(),
@@ -103,7 +104,7 @@ impl Event {
             Event::NotAssembled(n) => format!("{n} error(s) in the program: fix them to run"),
             Event::Assembled => "Program assembled".to_string(),
             Event::FutureDiscarded(t) => {
-                format!("Edited at tick {t}: the recorded future after it was discarded")
+                format!("Edited at {tick} {t}: the recorded future after it was discarded")
             }
         }
     }

@@ -57,7 +57,7 @@ pub fn status_bar(ui: &mut egui::Ui, debugger: &Debugger) {
         ui.monospace(format!("{} {}", words.steps, m.steps()));
         if let Some(event) = debugger.event() {
             ui.separator();
-            ui.label(RichText::new(event.describe()).color(p.dim));
+            ui.label(RichText::new(event.describe(words.tick)).color(p.dim));
         }
     });
     ui.horizontal(|ui| {
