@@ -2,6 +2,9 @@
 //! first, the push rule and the stack's edges, every BCD and binary instruction against an
 //! integer reference, rungs, comparisons, the assembler, the runner and the examples.
 
+mod common;
+
+use common::servoscope;
 use proptest::prelude::*;
 use servoscope::machine::dl205::dialect::machine;
 use servoscope::machine::dl205::program::sp;
@@ -387,13 +390,6 @@ fn rung_structure_errors_are_all_reported() {
 
 // ---- Runner and examples ----------------------------------------------------------------------
 
-fn servoscope(args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_servoscope"))
-        .args(args)
-        .output()
-        .expect("run servoscope")
-}
-
 #[test]
 fn the_runner_speaks_dl205() {
     let example = concat!(
@@ -504,4 +500,12 @@ fn the_code_view_gets_the_rung_power_of_each_line() {
             (6, On)
         ]
     );
+}
+
+#[test]
+fn rungs_start_where_the_spec_says() {
+    use servoscope::machine::dl205::program::rung_starts;
+    // A contact after an output stays in its rung; the next STR after that starts a new one.
+    let m = machine("STR X0\nOUT Y0\nAND X1\nOUT Y1\nSTR X2\nSTR X3\nORSTR\nOUT Y2\nEND").unwrap();
+    assert_eq!(rung_starts(&m.program.instrs), [0, 4]);
 }

@@ -2,6 +2,9 @@
 //! storage table, execution errors, every instruction and type against an integer reference,
 //! REP, word order, M8003/M8004, edges, rungs, the assembler, the runner and the examples.
 
+mod common;
+
+use common::{scratch_file, servoscope};
 use proptest::prelude::*;
 use servoscope::machine::opennet::dialect::machine;
 use servoscope::machine::opennet::{M8003, M8004, OpenNet};
@@ -329,7 +332,17 @@ proptest! {
     }
 
     #[test]
-    fn typed_values_never_panic(text in "[ -~\\n]{0,200}") {
+    fn mutated_programs_never_panic(cut in 0usize..600, insert in "[ -~]{0,6}") {
+        let base = include_str!("../assets/examples/totaliser.opennet");
+        let at = base.char_indices().map(|(i, _)| i).nth(cut % base.chars().count()).unwrap_or(0);
+        let text = format!("{}{insert}{}", &base[..at], &base[at..]);
+        if let Ok(mut m) = machine(&text) {
+            m.run_until(3, |_| false);
+        }
+    }
+
+    #[test]
+    fn random_text_never_panics(text in "[ -~\\n]{0,200}") {
         if let Ok(mut m) = machine(&text) {
             m.run_until(3, |_| false);
         }
@@ -416,13 +429,6 @@ fn rung_structure_errors() {
 
 // ---- Runner and examples --------------------------------------------------------------------
 
-fn servoscope(args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_servoscope"))
-        .args(args)
-        .output()
-        .expect("run servoscope")
-}
-
 #[test]
 fn the_runner_speaks_opennet() {
     let example = concat!(
@@ -464,8 +470,7 @@ fn the_runner_speaks_opennet() {
     );
     let out = servoscope(&["run", example, "--input", "I8=1"]);
     assert_eq!(out.status.code(), Some(2));
-    let bad = std::env::temp_dir().join(format!("servoscope-on-{}.opennet", std::process::id()));
-    std::fs::write(&bad, "LD I0\nOUT Q0\n").unwrap();
+    let bad = scratch_file("bad.opennet", "LD I0\nOUT Q0\n");
     let out = servoscope(&["run", bad.to_str().unwrap(), "--json"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(out.stdout.is_empty());

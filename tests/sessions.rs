@@ -5,9 +5,9 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 use std::time::Duration;
 
+use common::servoscope;
 use servoscope::debugger::history::CHECKPOINT_EVERY;
 use servoscope::debugger::{Debugger, Speed};
 use servoscope::machine::silverlode::SilverLode;
@@ -23,13 +23,6 @@ fn temp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("servoscope-sessions-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir.join(name)
-}
-
-fn servoscope(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_servoscope"))
-        .args(args)
-        .output()
-        .expect("runs")
 }
 
 const PROGRAM: &str = "\

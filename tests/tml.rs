@@ -2,6 +2,9 @@
 //! example, the arithmetic against an i128 reference, PREG, division, the call stack, events and
 //! WAIT! tick by tick, the motion model, assembler errors and the runner.
 
+mod common;
+
+use common::{scratch_file, servoscope};
 use proptest::prelude::*;
 use servoscope::machine::tml::dialect::machine;
 use servoscope::machine::tml::{Tml, d};
@@ -434,8 +437,6 @@ fn the_vendor_profile_lands_exactly_speed_by_speed() {
     assert_eq!(&moving[..expected.len()], &expected[..]);
     assert_eq!(m.data[d::TPOS as usize] as i32, 258);
     // APOS closes half the error each tick and settles exactly.
-    let mut m2 = m.clone();
-    m2.ended = false;
     let mut settle =
         machine("MODE PP; CSPD = 18.; CACC = 4; CPA; CPOS = 258; UPD; !RT 40; WAIT!; END;")
             .unwrap();
@@ -573,19 +574,6 @@ fn the_examples_end_as_their_comments_say() {
     assert_eq!(m.ticks(), 501);
 }
 
-fn servoscope(args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_servoscope"))
-        .args(args)
-        .output()
-        .expect("run servoscope")
-}
-
-fn temp_program(name: &str, text: &str) -> std::path::PathBuf {
-    let path = std::env::temp_dir().join(format!("servoscope-tml-{}-{name}", std::process::id()));
-    std::fs::write(&path, text).expect("write program");
-    path
-}
-
 #[test]
 fn the_runner_speaks_tml() {
     let example = concat!(
@@ -613,21 +601,21 @@ fn the_runner_speaks_tml() {
     ];
     assert!(order.windows(2).all(|w| at(w[0]) < at(w[1])), "{text}");
 
-    let fault = temp_program("fault.tml", "RET;");
+    let fault = scratch_file("fault.tml", "RET;");
     let out = servoscope(&["run", fault.to_str().unwrap(), "--json"]);
     assert_eq!(out.status.code(), Some(1));
     let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(j["fault"]["kind"], "stack_underflow");
     assert_eq!(j["registers"]["DER"], 2);
 
-    let bad = temp_program("bad.tml", "int a;\na = ;\nGOTO x;");
+    let bad = scratch_file("bad.tml", "int a;\na = ;\nGOTO x;");
     let out = servoscope(&["run", bad.to_str().unwrap(), "--json"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(out.stdout.is_empty());
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains(":2:") && stderr.contains(":3:"), "{stderr}");
 
-    let endless = temp_program("loop.tml", "int i;\nloop: i += 1; GOTO loop;");
+    let endless = scratch_file("loop.tml", "int i;\nloop: i += 1; GOTO loop;");
     let out = servoscope(&[
         "run",
         endless.to_str().unwrap(),
@@ -649,4 +637,16 @@ fn the_runner_speaks_tml() {
     for p in [fault, bad, endless] {
         let _ = std::fs::remove_file(p);
     }
+}
+
+#[test]
+fn hostile_literals_and_names_give_errors_not_panics() {
+    // A fixed literal far past i128 on the way to its raw value.
+    let e = errors("fixed f; f = 999999999999.9999999999999999999999999;");
+    assert!(e[0].contains("out of range"), "{e:?}");
+    // A variable called like an input is the variable; IN#5 is still the input.
+    let m = run("int in5; in5 = 7;");
+    let loc = m.find("in5").unwrap();
+    assert_eq!(m.read(loc), 7);
+    assert_ne!(m.find("IN#5"), Some(loc));
 }

@@ -247,14 +247,20 @@ pub trait MachineView: Send + 'static {
     /// Locations the program text mentions, for "used by the program" filters.
     fn used(&self) -> Vec<Loc>;
     /// Names the program itself gives to locations (SilverLode DEFs, TML variables).
-    fn program_names(&self) -> Vec<(String, Loc)>;
+    fn program_names(&self) -> Vec<(String, Loc)> {
+        Vec::new()
+    }
 
     /// 1-based source line of the instruction the program counter points at.
     fn pc_line(&self) -> Option<usize>;
     /// Return addresses as 1-based source lines, outermost first.
-    fn call_stack_lines(&self) -> Vec<usize>;
+    fn call_stack_lines(&self) -> Vec<usize> {
+        Vec::new()
+    }
     fn run_state(&self) -> RunState;
-    fn fault(&self) -> Option<FaultInfo>;
+    fn fault(&self) -> Option<FaultInfo> {
+        None
+    }
     /// Where the machine is: the tick counter and the instructions run inside this tick.
     fn pos(&self) -> Pos;
     fn ticks(&self) -> u64 {

@@ -38,6 +38,47 @@ pub enum TokenClass {
     Condition,
 }
 
+/// Colour classes of one line of whitespace-separated words (the instruction-list dialects):
+/// from the character where `comment_starts(chars, i, first_word)` holds to the end is a
+/// comment; `separates` splits words besides whitespace; `class_of(word, first_word)` gives each
+/// word's class (the word upper-cased).
+pub fn classify_words(
+    line: &str,
+    comment_starts: impl Fn(&[char], usize, bool) -> bool,
+    separates: impl Fn(char) -> bool,
+    class_of: impl Fn(&str, bool) -> TokenClass,
+) -> Vec<TokenClass> {
+    let chars: Vec<char> = line.chars().collect();
+    let mut kinds = vec![TokenClass::Plain; chars.len()];
+    let mut i = 0;
+    let mut first = true;
+    while i < chars.len() {
+        if comment_starts(&chars, i, first) {
+            kinds[i..].fill(TokenClass::Comment);
+            break;
+        }
+        if chars[i].is_whitespace() || separates(chars[i]) {
+            i += 1;
+            continue;
+        }
+        let start = i;
+        while i < chars.len()
+            && !chars[i].is_whitespace()
+            && !separates(chars[i])
+            && !comment_starts(&chars, i, false)
+        {
+            i += 1;
+        }
+        let word = chars[start..i]
+            .iter()
+            .collect::<String>()
+            .to_ascii_uppercase();
+        kinds[start..i].fill(class_of(&word, first));
+        first = false;
+    }
+    kinds
+}
+
 /// The words a dialect's users use for its units of time and work.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Vocabulary {

@@ -63,6 +63,9 @@ impl Pane {
 
 /// Below this no tile can be dragged smaller.
 const MIN_TILE: f32 = 40.0;
+/// The gap between tiles, and each tab bar's height.
+const GAP: f32 = 4.0;
+const TAB_BAR: f32 = 24.0;
 
 const TREE_ID: &str = "servoscope_layout";
 
@@ -246,7 +249,7 @@ impl Layout {
 
     /// Keep the timeline at `height` points (its content, plus its tab bar) when it sits in a
     /// vertical stack: its rows do not grow, so a taller window gives the room to the others.
-    pub fn fit_timeline(&mut self, content_height: f32, tab_bar: f32) {
+    pub fn fit_timeline(&mut self, content_height: f32) {
         let tiles = &self.tree.tiles;
         let Some(pane) = tiles.find_pane(&Pane::Timeline) else {
             return;
@@ -267,14 +270,14 @@ impl Layout {
         if linear.dir != egui_tiles::LinearDir::Vertical || linear.children.len() < 2 {
             return;
         }
-        let gaps = 4.0 * (linear.children.len() - 1) as f32;
+        let gaps = GAP * (linear.children.len() - 1) as f32;
         let others: f32 = linear
             .children
             .iter()
             .filter(|&&c| c != tabs)
             .map(|&c| linear.shares[c])
             .sum();
-        let want = content_height + tab_bar + 8.0;
+        let want = content_height + TAB_BAR + 8.0;
         let rest = stack_rect.height() - gaps - want;
         if rest > 0.0 && others > 0.0 {
             linear.shares.set_share(tabs, others * want / rest);
@@ -357,7 +360,11 @@ impl Behavior<Pane> for Panes<'_> {
     }
 
     fn gap_width(&self, _style: &egui::Style) -> f32 {
-        4.0
+        GAP
+    }
+
+    fn tab_bar_height(&self, _style: &egui::Style) -> f32 {
+        TAB_BAR
     }
 
     fn simplification_options(&self) -> SimplificationOptions {

@@ -770,7 +770,7 @@ impl ServoscopeApp {
                 dialect_panels: &mut self.panels,
                 out: &mut commands,
             };
-            self.layout.fit_timeline(timeline::height(ui.style()), 24.0);
+            self.layout.fit_timeline(timeline::height(ui.style()));
             self.layout.tree.ui(&mut panes, ui);
         });
         self.files.windows(&ctx, &self.prefs, &mut commands);

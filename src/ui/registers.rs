@@ -257,7 +257,11 @@ fn bit_grid(
         if let Some(alias) = info.alias {
             ui.label(RichText::new(alias).strong());
         }
-        for (name, _) in m.program_names().iter().filter(|(_, l)| *l == loc) {
+        for (name, _) in m
+            .program_names()
+            .iter()
+            .filter(|(n, l)| *l == loc && *n != info.name)
+        {
             ui.label(RichText::new(name).italics());
         }
         ui.label(RichText::new(info.description).color(p.dim));

@@ -3,6 +3,9 @@
 
 pub mod scanned;
 
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
 use servoscope::machine::silverlode::SilverLode;
 use servoscope::machine::{Machine, MachineView, RunState};
 
@@ -53,4 +56,19 @@ pub fn ureg(m: &SilverLode, r: usize) -> u32 {
 pub fn flags(m: &SilverLode) -> (bool, bool, bool) {
     let isw = m.isw();
     (isw & 2 != 0, isw & 4 != 0, isw & 8 != 0)
+}
+
+/// The built binary, run with `args` (the runner's tests).
+pub fn servoscope(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_servoscope"))
+        .args(args)
+        .output()
+        .expect("run servoscope")
+}
+
+/// A program file in the temporary directory, named apart for each test process.
+pub fn scratch_file(name: &str, text: &str) -> PathBuf {
+    let path = std::env::temp_dir().join(format!("servoscope-{}-{name}", std::process::id()));
+    std::fs::write(&path, text).expect("write a scratch file");
+    path
 }

@@ -6,7 +6,6 @@ use egui::{Color32, RichText};
 use super::program::{Op, Test, bit_name};
 use super::{Dl205, LEVELS, StackMove, bcd_value};
 use crate::debugger::Debugger;
-use crate::machine::MachineView;
 use crate::ui::Command;
 use crate::ui::panels::DialectPanel;
 use crate::ui::theme::palette;
@@ -132,25 +131,15 @@ impl DialectPanel for RungPanel {
         };
         let p = palette(ui.visuals().dark_mode);
         let instrs = &m.program.instrs;
-        // The rung around the current (or last) instruction: from its first STR after an
-        // output, to the instruction before the next rung's start.
-        let at = m.last.map_or(0, |l| l as usize).min(instrs.len().saturating_sub(1));
-        let mut start = at;
-        while start > 0 {
-            let starts_rung = matches!(instrs[start].op, Op::Str(_))
-                && (start == 0 || instrs[..start].iter().rev().take_while(|i| !i.op.is_output()).all(|i| !matches!(i.op, Op::Str(_))) && instrs[start - 1].op.is_output());
-            if starts_rung {
-                break;
-            }
-            start -= 1;
-        }
-        let mut end = at + 1;
-        while end < instrs.len() {
-            if matches!(instrs[end].op, Op::Str(_)) && instrs[end - 1].op.is_output() {
-                break;
-            }
-            end += 1;
-        }
+        // The rung around the current (or last) instruction.
+        let at = m.last.map_or(0, |l| l as usize);
+        let starts = super::program::rung_starts(instrs);
+        let start = starts.iter().rev().find(|&&s| s <= at).copied().unwrap_or(0);
+        let end = starts
+            .iter()
+            .find(|&&s| s > at)
+            .copied()
+            .unwrap_or(instrs.len());
         egui::ScrollArea::vertical()
             .id_salt("dl205_rung")
             .auto_shrink([false, false])
@@ -195,7 +184,6 @@ impl DialectPanel for RungPanel {
                     "boolean stack: {}",
                     if stack.is_empty() { "empty".into() } else { stack.join(" ") }
                 ));
-                let _ = m.pc_line();
             });
     }
 }

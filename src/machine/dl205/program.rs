@@ -160,6 +160,22 @@ impl Op {
     }
 }
 
+/// Where each rung starts (spec §2): a STR-family contact when there is no rung yet or the
+/// current rung already has an output.
+pub fn rung_starts(instrs: &[Instr]) -> Vec<usize> {
+    let mut starts = Vec::new();
+    let mut has_output = true;
+    for (i, ins) in instrs.iter().enumerate() {
+        if matches!(ins.op, Op::Str(_)) && has_output {
+            starts.push(i);
+            has_output = false;
+        } else if ins.op.is_output() {
+            has_output = true;
+        }
+    }
+    starts
+}
+
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Instr {
     pub op: Op,

@@ -6,7 +6,7 @@ use std::fmt::Write;
 use super::program::{Bit, Kind, SPECIAL, bit_name};
 use super::{Dl205, LEVELS, V_WORDS};
 use crate::machine::{
-    BitInfo, FaultInfo, Format, Loc, LocInfo, Machine, MachineView, Pos, RunState, SpaceInfo,
+    BitInfo, Format, Loc, LocInfo, Machine, MachineView, Pos, RunState, SpaceInfo,
     SpaceKind, StopReason, WriteError,
 };
 
@@ -197,20 +197,11 @@ impl MachineView for Dl205 {
         out.extend((0..SPECIAL.len() as u32).map(|i| Loc::new(SP, i)));
         out
     }
-    fn program_names(&self) -> Vec<(String, Loc)> {
-        Vec::new()
-    }
     fn pc_line(&self) -> Option<usize> {
         self.program.instrs.get(self.pc as usize).map(|i| i.line)
     }
-    fn call_stack_lines(&self) -> Vec<usize> {
-        Vec::new()
-    }
     fn run_state(&self) -> RunState {
         RunState::Running
-    }
-    fn fault(&self) -> Option<FaultInfo> {
-        None
     }
     fn pos(&self) -> Pos {
         Pos {

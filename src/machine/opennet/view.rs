@@ -6,7 +6,7 @@ use std::fmt::Write;
 use super::program::{Area, SPECIAL, point_name};
 use super::{M8004, OpenNet};
 use crate::machine::{
-    FaultInfo, Loc, LocInfo, Machine, MachineView, Pos, RunState, SpaceInfo, SpaceKind,
+    Loc, LocInfo, Machine, MachineView, Pos, RunState, SpaceInfo, SpaceKind,
     StopReason, WriteError,
 };
 
@@ -189,20 +189,11 @@ impl MachineView for OpenNet {
         out.extend((0..SPECIAL.len() as u32).map(|i| Loc::new(SPECIAL_SPACE, i)));
         out
     }
-    fn program_names(&self) -> Vec<(String, Loc)> {
-        Vec::new()
-    }
     fn pc_line(&self) -> Option<usize> {
         self.program.instrs.get(self.pc as usize).map(|i| i.line)
     }
-    fn call_stack_lines(&self) -> Vec<usize> {
-        Vec::new()
-    }
     fn run_state(&self) -> RunState {
         RunState::Running
-    }
-    fn fault(&self) -> Option<FaultInfo> {
-        None
     }
     fn pos(&self) -> Pos {
         Pos {

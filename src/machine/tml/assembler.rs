@@ -151,7 +151,14 @@ fn number(word: &str) -> Tok {
         let scale = 10i128.pow(frac.len() as u32);
         let whole: i128 = int.parse().unwrap_or(0);
         let part: i128 = if frac.is_empty() { 0 } else { frac.parse().unwrap_or(0) };
-        let num = (whole * scale + part) * 65536;
+        // Too large for i128 is far outside the fixed range: keep a value the range check refuses.
+        let Some(num) = whole
+            .checked_mul(scale)
+            .and_then(|x| x.checked_add(part))
+            .and_then(|x| x.checked_mul(65536))
+        else {
+            return Tok::Fixed(i128::MAX);
+        };
         let (q, r) = (num / scale, num % scale);
         let raw = if 2 * r >= scale { q + 1 } else { q };
         return Tok::Fixed(raw);
@@ -892,7 +899,6 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
             body = &code[colon + 1..];
             body_col = colon + 2;
         }
-        let statements = body.iter().filter(|&&c| c == ';').count();
         // Statements that are empty (`;;`) are not counted.
         let mut nonempty = 0;
         let mut start = 0;
@@ -907,7 +913,6 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
                 start = k + 1;
             }
         }
-        let _ = statements;
         count += nonempty;
         bodies.push(Some(Line {
             body: body.to_vec(),
@@ -961,10 +966,9 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
             }
         }
         let rest = &line.body[start..];
-        if let Some(k) = rest.iter().position(|c| !c.is_whitespace()) {
+        if rest.iter().any(|c| !c.is_whitespace()) {
             let trailing = rest.len() - rest.iter().rev().take_while(|c| c.is_whitespace()).count();
             let col = line.body_col + start + trailing;
-            let _ = k;
             errors.push(Diagnostic::error(line_no, col, 1, "expected ';' at the end of the statement"));
         }
     }

@@ -24,7 +24,7 @@ fn sx32(v: u32) -> i64 {
 
 impl Tml {
     /// The signed value an instruction reads from `op` (PROD/PRODH from PREG).
-    pub fn read(&self, op: &Operand) -> i64 {
+    pub fn read_operand(&self, op: &Operand) -> i64 {
         let raw = self.raw(op.data);
         match op.half {
             Some(true) => sx16(raw >> 16),
@@ -66,7 +66,7 @@ impl Tml {
     fn value(&self, v: &Value) -> i64 {
         match v {
             Value::Imm(i) => *i,
-            Value::Var(op) => self.read(op),
+            Value::Var(op) => self.read_operand(op),
         }
     }
 
@@ -93,17 +93,17 @@ impl Tml {
             Op::Assign(dst, src) => {
                 let v = self.value(&src);
                 self.store(&dst, v);
-                vals = [v, 0, self.read(&dst)];
+                vals = [v, 0, self.read_operand(&dst)];
             }
             Op::Negate(dst, src) => {
-                let v = self.read(&src);
+                let v = self.read_operand(&src);
                 self.store(&dst, v.wrapping_neg());
-                vals = [v, 0, self.read(&dst)];
+                vals = [v, 0, self.read_operand(&dst)];
             }
             Op::AssignShift { dst, src, left, n } => {
-                let v = self.read(&src);
+                let v = self.read_operand(&src);
                 self.store(&dst, Self::shifted(v, left, n));
-                vals = [v, i64::from(n), self.read(&dst)];
+                vals = [v, i64::from(n), self.read_operand(&dst)];
             }
             Op::Add {
                 dst,
@@ -111,7 +111,7 @@ impl Tml {
                 kind,
                 subtract,
             } => {
-                let old = self.read(&dst);
+                let old = self.read_operand(&dst);
                 let mut delta = self.value(&src);
                 if kind == AddKind::IntegerPart {
                     delta *= 65536;
@@ -122,10 +122,10 @@ impl Tml {
                     old.wrapping_add(delta)
                 };
                 self.store(&dst, result);
-                vals = [old, delta, self.read(&dst)];
+                vals = [old, delta, self.read_operand(&dst)];
             }
             Op::Multiply { a, b, left, n } => {
-                let (va, vb) = (self.read(&a), self.value(&b));
+                let (va, vb) = (self.read_operand(&a), self.value(&b));
                 let product = i128::from(va) * i128::from(vb);
                 let shifted = if left { product << n } else { product >> n };
                 self.preg = (shifted as u64) & PREG_MASK;
@@ -140,13 +140,13 @@ impl Tml {
                 vals = [va, vb, self.preg_signed()];
             }
             Op::Divide(dst, divisor) => {
-                let old = self.read(&dst);
+                let old = self.read_operand(&dst);
                 let n = if dst.is_fixed() {
                     i128::from(old)
                 } else {
                     i128::from(old) * 65536
                 };
-                let dv = self.read(&divisor);
+                let dv = self.read_operand(&divisor);
                 let q = if dv == 0 {
                     if n >= 0 { i128::from(i32::MAX) } else { i128::from(i32::MIN) }
                 } else {
@@ -156,9 +156,9 @@ impl Tml {
                 vals = [old, dv, q as i64];
             }
             Op::Shift { dst, left, n } => {
-                let old = self.read(&dst);
+                let old = self.read_operand(&dst);
                 self.store(&dst, Self::shifted(old, left, n));
-                vals = [old, i64::from(n), self.read(&dst)];
+                vals = [old, i64::from(n), self.read_operand(&dst)];
             }
             Op::ShiftProduct { left, n } => {
                 let old = self.preg_signed();
@@ -166,15 +166,15 @@ impl Tml {
                 vals = [old, i64::from(n), self.preg_signed()];
             }
             Op::Srb { dst, and, or } => {
-                let old = self.read(&dst);
+                let old = self.read_operand(&dst);
                 let raw = (old as u16 & and) | or;
                 self.store(&dst, i64::from(raw));
-                vals = [old, 0, self.read(&dst)];
+                vals = [old, 0, self.read_operand(&dst)];
             }
             Op::Jump { target, call, cond } => {
                 let taken = match cond {
                     Some((x, c)) => {
-                        let v = self.read(&x);
+                        let v = self.read_operand(&x);
                         vals[0] = v;
                         c.holds(v)
                     }

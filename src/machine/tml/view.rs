@@ -264,14 +264,7 @@ impl MachineView for Tml {
     }
     fn find(&self, name: &str) -> Option<Loc> {
         let name = name.trim();
-        let upper = name.to_ascii_uppercase();
-        if let Some(n) = upper
-            .strip_prefix("IN#")
-            .or_else(|| upper.strip_prefix("IN"))
-            .and_then(|n| n.parse::<usize>().ok())
-        {
-            return (n < INPUTS).then(|| Loc::new(INPUT, n as u32));
-        }
+        // A variable first: `in5` may be one (only IN#5 is the input then).
         if let Some(v) = self
             .program
             .vars
@@ -279,6 +272,14 @@ impl MachineView for Tml {
             .position(|v| v.name.eq_ignore_ascii_case(name))
         {
             return Some(Loc::new(VARS, v as u32));
+        }
+        let upper = name.to_ascii_uppercase();
+        if let Some(n) = upper
+            .strip_prefix("IN#")
+            .or_else(|| upper.strip_prefix("IN"))
+            .and_then(|n| n.parse::<usize>().ok())
+        {
+            return (n < INPUTS).then(|| Loc::new(INPUT, n as u32));
         }
         find_by_name(self, name)
     }
