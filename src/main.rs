@@ -34,7 +34,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Run a program headless and report its final state (exit 0 ended, 1 faulted,
-    /// 2 bad file or arguments, 3 tick limit).
+    /// 2 bad file or arguments, 3 tick limit, 4 --break came true).
     Run(RunArgs),
 }
 
@@ -63,6 +63,14 @@ struct RunArgs {
     /// Let --save-session replace a file that is not a session.
     #[arg(long)]
     force: bool,
+    /// Write one JSON object per executed instruction to this file (JSON Lines): position,
+    /// line, mnemonic, and the locations it wrote with their new values.
+    #[arg(long, value_name = "FILE.jsonl")]
+    trace: Option<PathBuf>,
+    /// Stop when this expression holds before an instruction, e.g. "R4 > 1000 && IO3"
+    /// (exit code 4; the report says where).
+    #[arg(long = "break", value_name = "EXPR")]
+    break_when: Option<String>,
 }
 
 fn main() -> ExitCode {
@@ -169,6 +177,8 @@ fn run(args: &RunArgs) -> Result<u8, String> {
         json,
         save_session,
         force,
+        trace,
+        break_when,
     } = args;
     let (dialect, max_ticks, json) = (dialect.as_deref(), *max_ticks, *json);
     let start = read_start(file, dialect)?;
@@ -214,10 +224,40 @@ fn run(args: &RunArgs) -> Result<u8, String> {
         }
     };
     let max_ticks = max_ticks.unwrap_or(start.dialect.default_max_ticks);
-    let done = runner::run_engine(engine.as_ref(), &events, max_ticks);
+    let until = match break_when {
+        Some(text) => Some(
+            servoscope::debugger::expr::Expr::compile(text, m)
+                .map_err(|e| format!("--break '{text}': {e}"))?,
+        ),
+        None => None,
+    };
+    let (done, broke) = if trace.is_none() && until.is_none() {
+        (runner::run_engine(engine.as_ref(), &events, max_ticks), None)
+    } else {
+        let mut trace_file = match trace {
+            Some(path) => Some(std::io::BufWriter::new(
+                std::fs::File::create(path)
+                    .map_err(|e| format!("cannot write {}: {e}", path.display()))?,
+            )),
+            None => None,
+        };
+        let probe = runner::Probe {
+            trace: trace_file
+                .as_mut()
+                .map(|w| w as &mut dyn std::io::Write),
+            until,
+        };
+        let (done, broke, error) =
+            runner::run_engine_probed(engine.as_ref(), &events, max_ticks, &start.source, probe);
+        if let (Some(e), Some(path)) = (error, trace) {
+            return Err(format!("cannot write {}: {e}", path.display()));
+        }
+        (done, broke)
+    };
     let report = Report {
         dialect: start.dialect,
         machine: done.machine(),
+        broke,
     };
     if let Some(out) = save_session {
         let session = Session::of_run(Recorded {

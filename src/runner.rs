@@ -8,7 +8,8 @@ use std::fmt::Write as _;
 use crate::debugger::Engine;
 use crate::debugger::history::{self, Change, UserEvent};
 use crate::machine::registry::{AtLimit, Dialect};
-use crate::machine::{Loc, Machine, MachineView, Pos, RunState, SpaceKind, value};
+use crate::debugger::expr::Expr;
+use crate::machine::{Loc, Machine, MachineView, Pos, RunState, SpaceKind, StopReason, value};
 
 /// An input toggle: `input` flips when the tick counter equals `tick`, before that tick runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -139,7 +140,13 @@ pub fn toggles_to_events(toggles: &[InputToggle]) -> Vec<UserEvent> {
 /// Run `machine` until it stops or reaches `max_ticks`, applying each event when the machine
 /// reaches its position; events before the current position count as already applied. This is
 /// the timeline's own replay, so a run and a session agree.
-pub fn run_events<M: Machine>(machine: &mut M, events: &[UserEvent], max_ticks: u64) {
+/// `stop` is asked before every instruction.
+pub fn run_events<M: Machine, F: FnMut(&M) -> bool>(
+    machine: &mut M,
+    events: &[UserEvent],
+    max_ticks: u64,
+    stop: F,
+) -> StopReason {
     let mut events = events.to_vec();
     events.sort_by_key(|e| e.at);
     let mut next = events.partition_point(|e| e.at < machine.pos());
@@ -148,24 +155,38 @@ pub fn run_events<M: Machine>(machine: &mut M, events: &[UserEvent], max_ticks: 
         &events,
         &mut next,
         Pos::at_tick(max_ticks),
-        |_| false,
+        stop,
         |_, _| {},
-    );
+    )
 }
 
 /// Run `machine` until it stops or reaches `max_ticks`, toggling inputs on the way.
 pub fn run_with_inputs<M: Machine>(machine: &mut M, toggles: &[InputToggle], max_ticks: u64) {
-    run_events(machine, &toggles_to_events(toggles), max_ticks);
+    run_events(machine, &toggles_to_events(toggles), max_ticks, |_| false);
+}
+
+/// Where `--break` stopped a run.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct BreakHit {
+    pub expr: String,
+    pub at: Pos,
+    /// The line about to run.
+    pub line: Option<usize>,
 }
 
 /// The final state of a run, as the runner prints it.
 pub struct Report<'a> {
     pub dialect: &'a Dialect,
     pub machine: &'a dyn MachineView,
+    /// The run stopped because `--break` came true.
+    pub broke: Option<BreakHit>,
 }
 
 impl Report<'_> {
     pub fn status(&self) -> &'static str {
+        if self.broke.is_some() {
+            return "break";
+        }
         match self.machine.run_state() {
             RunState::Ended => "ended",
             RunState::Faulted => "faulted",
@@ -176,11 +197,13 @@ impl Report<'_> {
         }
     }
 
-    /// 0 ended, 1 faulted, 3 tick limit (2 is for files and arguments).
+    /// 0 ended, 1 faulted, 3 tick limit, 4 `--break` came true (2 is for files and
+    /// arguments).
     pub fn exit_code(&self) -> u8 {
         match self.status() {
             "ended" => 0,
             "faulted" => 1,
+            "break" => 4,
             _ => 3,
         }
     }
@@ -197,6 +220,16 @@ impl Report<'_> {
             m.ticks(),
             m.steps()
         );
+        if let Some(b) = &self.broke {
+            let _ = write!(
+                out,
+                ",\"break\":{{\"expr\":{},\"tick\":{},\"step\":{},\"line\":{}}}",
+                json_string(&b.expr),
+                b.at.tick,
+                b.at.step,
+                b.line.map_or_else(|| "null".to_string(), |l| l.to_string())
+            );
+        }
         if !fields.is_empty() {
             out.push(',');
             out.push_str(&fields);
@@ -221,6 +254,10 @@ impl Report<'_> {
         if let Some(f) = m.fault() {
             let _ = writeln!(out, "fault: {} at line {}: {}", f.kind, f.line, f.message);
         }
+        if let Some(b) = &self.broke {
+            let line = b.line.map_or_else(String::new, |l| format!(", before line {l}"));
+            let _ = writeln!(out, "break: {} at {}{line}", b.expr, b.at);
+        }
         out.push_str(&m.report_text());
         out
     }
@@ -232,4 +269,127 @@ pub fn run_engine(engine: &dyn Engine, events: &[UserEvent], max_ticks: u64) -> 
     let mut run = engine.restarted(Vec::new(), Vec::new());
     run.run_headless(events, max_ticks);
     run
+}
+
+fn json_string(text: &str) -> String {
+    serde_json::to_string(text).unwrap_or_else(|_| "\"\"".to_string())
+}
+
+/// What the runner watches while it runs: `--trace` and `--break`.
+#[derive(Default)]
+pub struct Probe<'a> {
+    /// One JSON object per executed instruction goes here.
+    pub trace: Option<&'a mut dyn std::io::Write>,
+    /// Stop at the first instruction boundary where this holds.
+    pub until: Option<Expr>,
+}
+
+/// The first word of a source line's statement: its mnemonic as written (after a label; for a
+/// TML assignment, the name assigned).
+pub fn mnemonic(line: &str) -> &str {
+    let code = line.trim();
+    let code = match code.split_once(':') {
+        Some((label, rest))
+            if !label.is_empty()
+                && label.chars().all(|c| c.is_alphanumeric() || c == '_') =>
+        {
+            rest.trim_start()
+        }
+        _ => code,
+    };
+    let end = code
+        .find(|c: char| c.is_whitespace() || c == ';' || c == ',')
+        .unwrap_or(code.len());
+    &code[..end]
+}
+
+/// One `--trace` line: the executed instruction's start position, its line and mnemonic, and
+/// the locations it wrote with their new values.
+fn trace_line(m: &dyn MachineView, n: u64, started: Pos, source: &[&str]) -> String {
+    let line = m.last_line();
+    let word = line
+        .and_then(|l| source.get(l.wrapping_sub(1)))
+        .map_or("", |text| mnemonic(text));
+    let mut out = format!(
+        "{{\"n\":{n},\"tick\":{},\"step\":{},\"line\":{},\"mnemonic\":{},\"written\":{{",
+        started.tick,
+        started.step,
+        line.map_or_else(|| "null".to_string(), |l| l.to_string()),
+        json_string(word),
+    );
+    for (i, loc) in m.last_written().into_iter().enumerate() {
+        let Some(info) = m.info(loc) else { continue };
+        if i > 0 {
+            out.push(',');
+        }
+        let _ = write!(
+            out,
+            "{}:{}",
+            json_string(&info.name),
+            crate::machine::value_of(m, loc)
+        );
+    }
+    out.push_str("}}\n");
+    out
+}
+
+/// Run `engine`'s program from its start like [`run_engine`], writing the `--trace` and
+/// stopping at `--break`. Returns the final engine, where the break stopped, and the first
+/// error writing the trace (the run stops there).
+pub fn run_engine_probed(
+    engine: &dyn Engine,
+    events: &[UserEvent],
+    max_ticks: u64,
+    source: &str,
+    mut probe: Probe<'_>,
+) -> (Box<dyn Engine>, Option<BreakHit>, Option<std::io::Error>) {
+    let mut run = engine.restarted(Vec::new(), Vec::new());
+    let lines: Vec<&str> = source.lines().collect();
+    let mut seen = run.machine().steps();
+    let mut started = run.machine().pos();
+    let mut error = None;
+    let mut broke = None;
+    let mut emit = |m: &dyn MachineView,
+                    seen: &mut u64,
+                    started: &mut Pos,
+                    out: &mut Option<&mut dyn std::io::Write>|
+     -> bool {
+        if m.steps() > *seen {
+            if let Some(w) = out.as_mut()
+                && let Err(e) = w.write_all(trace_line(m, m.steps(), *started, &lines).as_bytes())
+            {
+                error = Some(e);
+                return false;
+            }
+            *seen = m.steps();
+        }
+        *started = m.pos();
+        true
+    };
+    let reason = run.run_headless_observed(events, max_ticks, &mut |m| {
+        if !emit(m, &mut seen, &mut started, &mut probe.trace) {
+            return true;
+        }
+        if let Some(e) = &probe.until
+            && e.holds(m)
+        {
+            broke = Some(BreakHit {
+                expr: e.text().to_string(),
+                at: m.pos(),
+                line: m.pc_line(),
+            });
+            return true;
+        }
+        false
+    });
+    if reason != StopReason::Predicate {
+        // The last instruction (END, a fault) has no boundary after it.
+        emit(run.machine(), &mut seen, &mut started, &mut probe.trace);
+    }
+    if let Some(w) = probe.trace.as_mut()
+        && let Err(e) = w.flush()
+    {
+        error.get_or_insert(e);
+    }
+    (run, broke, error)
 }

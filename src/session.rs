@@ -41,7 +41,15 @@ pub struct Session {
     pub program_path: Option<PathBuf>,
     /// The program text itself, so a session opens anywhere.
     pub program: String,
+    /// The lines of plain line breakpoints (what every format-2 reader understands).
     pub breakpoints: Vec<usize>,
+    /// Every breakpoint in the list's order, with conditions, hit counts, log points, data
+    /// breakpoints and disabled ones. When present it is the whole truth and `breakpoints` is
+    /// only for older readers; files from before it have only `breakpoints`.
+    pub breakpoint_list: Vec<crate::debugger::Breakpoint>,
+    pub watches: Vec<crate::debugger::Watch>,
+    /// Stop a run when the dialect's error flags come on.
+    pub break_on_error: bool,
     /// The dialect's settings (SilverLode: the servo model).
     pub settings: Settings,
     /// The plot channels; `None` means the dialect's defaults.
@@ -267,6 +275,7 @@ impl From<v1::Session> for Session {
                 selected: old.view.selected_register.map(|r| format!("R{r}")),
                 speed: old.view.speed,
             },
+            ..Session::default()
         }
     }
 }
@@ -367,8 +376,17 @@ impl Session {
             machine: debugger.machine(),
             events: debugger.events(),
         });
+        let list = debugger.breakpoint_list();
+        let all_plain = list.iter().all(crate::debugger::Breakpoint::is_plain);
         Session {
-            breakpoints: debugger.breakpoints().iter().copied().collect(),
+            breakpoints: list
+                .iter()
+                .filter(|b| b.is_plain())
+                .filter_map(crate::debugger::Breakpoint::line_number)
+                .collect(),
+            breakpoint_list: if all_plain { Vec::new() } else { list.to_vec() },
+            watches: debugger.watches().to_vec(),
+            break_on_error: debugger.break_on_error(),
             channels: (channels != defaults.as_slice()).then(|| channels.to_vec()),
             furthest: debugger.furthest(),
             marks: debugger
@@ -548,6 +566,11 @@ impl Session {
             Pos::default(),
         )
         .map_err(program_error)?;
+        if !self.breakpoint_list.is_empty() {
+            debugger.set_breakpoint_list(self.breakpoint_list.clone());
+        }
+        debugger.set_watches(self.watches.clone());
+        debugger.set_break_on_error(self.break_on_error);
         if !debugger.replay_to(furthest, go_on) {
             return Err(SessionError::Cancelled {
                 path: path.to_string(),

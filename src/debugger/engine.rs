@@ -5,15 +5,18 @@
 //! timeline's loops compiled for that machine, so breakpoint checks, event replay and trace
 //! recording run without dynamic dispatch per executed instruction.
 
+use std::cell::RefCell;
+
+use super::breakpoints::Checker;
 use super::history::{Change, Mark, MarkKind, Timeline, UserEvent};
 use super::trace::{Channel, Trace};
 use crate::machine::{Loc, Machine, MachineView, Pos, StopReason, WriteError};
 
 /// When a forward run stops, as data, so the check is compiled into each dialect's loop.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Default)]
 pub struct StopWhen<'a> {
-    /// Breakpoints by 1-based line (index = line).
-    pub breakpoints: &'a [bool],
+    /// The breakpoints (line and data, with conditions, counts and log points).
+    pub checker: Option<&'a RefCell<Checker>>,
     /// Run to this line.
     pub line: Option<usize>,
     /// Stop at the first instruction boundary after this position (step one instruction).
@@ -38,12 +41,12 @@ impl StopWhen<'_> {
         {
             return true;
         }
-        if self.breakpoints.is_empty() && self.line.is_none() {
-            return false;
+        if let Some(line) = self.line
+            && m.pc_line() == Some(line)
+        {
+            return true;
         }
-        m.pc_line().is_some_and(|l| {
-            self.breakpoints.get(l).copied().unwrap_or(false) || self.line == Some(l)
-        })
+        self.checker.is_some_and(|c| c.borrow_mut().check(m))
     }
 }
 
@@ -60,6 +63,14 @@ pub trait Engine: Send {
     fn goto(&mut self, pos: Pos);
     /// The last instruction boundary before `before` where `wanted` holds.
     fn find_back(&mut self, before: Pos, wanted: &StopWhen<'_>) -> Option<Pos>;
+    /// The last instruction boundary before `before` where `wanted` holds.
+    fn find_back_where(
+        &mut self,
+        before: Pos,
+        wanted: &dyn Fn(&dyn MachineView) -> bool,
+    ) -> Option<Pos>;
+    /// Call `f` after each recorded instruction ending in `from < p <= to`, until it says stop.
+    fn visit(&mut self, from: Pos, to: Pos, f: &mut dyn FnMut(&dyn MachineView) -> bool);
     /// A user edit at the current position; `Ok(true)` when it discarded a recorded future.
     fn edit(&mut self, loc: Loc, change: Change) -> Result<bool, WriteError>;
     fn events(&self) -> &[UserEvent];
@@ -72,6 +83,14 @@ pub trait Engine: Send {
     /// Run the machine straight to `limit` with `events`, recording nothing (the headless
     /// runner). The timeline's history is not kept: use only on a fresh engine.
     fn run_headless(&mut self, events: &[UserEvent], max_ticks: u64);
+    /// [`Engine::run_headless`], asking `stop` at every instruction boundary (the runner's
+    /// `--trace` and `--break`).
+    fn run_headless_observed(
+        &mut self,
+        events: &[UserEvent],
+        max_ticks: u64,
+        stop: &mut dyn FnMut(&dyn MachineView) -> bool,
+    ) -> StopReason;
 }
 
 /// The engine for one dialect's machine type.
@@ -110,7 +129,22 @@ impl<M: Machine> Engine for Core<M> {
         self.timeline.goto(pos);
     }
     fn find_back(&mut self, before: Pos, wanted: &StopWhen<'_>) -> Option<Pos> {
-        self.timeline.find_back(before, |m| wanted.holds(m))
+        self.timeline.find_back(before, |m, first| {
+            if first && let Some(c) = wanted.checker {
+                c.borrow_mut().prime(m);
+            }
+            wanted.holds(m)
+        })
+    }
+    fn find_back_where(
+        &mut self,
+        before: Pos,
+        wanted: &dyn Fn(&dyn MachineView) -> bool,
+    ) -> Option<Pos> {
+        self.timeline.find_back(before, |m, _| wanted(m))
+    }
+    fn visit(&mut self, from: Pos, to: Pos, f: &mut dyn FnMut(&dyn MachineView) -> bool) {
+        self.timeline.visit(from, to, |m| f(m));
     }
     fn edit(&mut self, loc: Loc, change: Change) -> Result<bool, WriteError> {
         self.timeline.edit(loc, change)
@@ -137,6 +171,14 @@ impl<M: Machine> Engine for Core<M> {
         self.timeline.memory_bytes()
     }
     fn run_headless(&mut self, events: &[UserEvent], max_ticks: u64) {
-        crate::runner::run_events(&mut self.timeline.machine, events, max_ticks);
+        crate::runner::run_events(&mut self.timeline.machine, events, max_ticks, |_| false);
+    }
+    fn run_headless_observed(
+        &mut self,
+        events: &[UserEvent],
+        max_ticks: u64,
+        stop: &mut dyn FnMut(&dyn MachineView) -> bool,
+    ) -> StopReason {
+        crate::runner::run_events(&mut self.timeline.machine, events, max_ticks, |m| stop(m))
     }
 }

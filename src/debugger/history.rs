@@ -229,9 +229,16 @@ impl<M: Machine> Timeline<M> {
     }
 
     /// The last position before `before` where an instruction was about to start and `wanted`
-    /// holds, searching back one checkpoint interval at a time. Leaves the machine where it
-    /// was.
-    pub fn find_back<F: FnMut(&M) -> bool>(&mut self, before: Pos, mut wanted: F) -> Option<Pos> {
+    /// holds, searching back one checkpoint interval at a time. `wanted` is told when a boundary
+    /// is the first of a stretch replayed from a checkpoint (a predicate comparing with the
+    /// previous boundary has nothing to compare with there); each stretch runs on to the first
+    /// boundary of the stretch after it, so that boundary is also asked with its predecessor
+    /// seen. Leaves the machine where it was.
+    pub fn find_back<F: FnMut(&M, bool) -> bool>(
+        &mut self,
+        before: Pos,
+        mut wanted: F,
+    ) -> Option<Pos> {
         let here = self.now();
         let mut end = before;
         let mut found = None;
@@ -242,11 +249,13 @@ impl<M: Machine> Timeline<M> {
                 .saturating_sub(1);
             let start = self.checkpoints[i].pos();
             self.restore(i);
-            self.forward(end, |m| {
-                if m.pos() < end && wanted(m) {
-                    found = Some(m.pos());
+            let mut first = true;
+            self.forward(before, |m| {
+                let p = m.pos();
+                if wanted(m, std::mem::take(&mut first)) && p < before {
+                    found = Some(p);
                 }
-                false
+                p >= end
             });
             if start == Pos::default() {
                 break;
@@ -255,6 +264,37 @@ impl<M: Machine> Timeline<M> {
         }
         self.goto(here);
         found
+    }
+
+    /// Call `f` after every instruction that ends in `from < p <= to` (p = `m.pos()`), in order,
+    /// until it returns false; the last instruction of a run that ended or faulted counts.
+    /// Leaves the machine where it was.
+    pub fn visit<F: FnMut(&M) -> bool>(&mut self, from: Pos, to: Pos, mut f: F) {
+        let here = self.now();
+        let to = to.min(self.furthest);
+        let i = self
+            .checkpoints
+            .partition_point(|c| c.pos() <= from)
+            .saturating_sub(1);
+        self.restore(i);
+        let mut seen = self.machine.steps();
+        let mut go = true;
+        self.forward(self.furthest, |m| {
+            let p = m.pos();
+            if p > to {
+                return true;
+            }
+            if p > from && m.steps() > seen {
+                go = f(m);
+            }
+            seen = m.steps();
+            !go
+        });
+        let m = &self.machine;
+        if go && !m.run_state().is_live() && m.steps() > seen && m.pos() > from && m.pos() <= to {
+            f(m);
+        }
+        self.goto(here);
     }
 
     /// A user edit at the current position. Returns whether it discarded a recorded future;
@@ -299,6 +339,6 @@ impl<M: Machine> Timeline<M> {
 #[inline]
 fn sample<M: MachineView>(m: &M, channels: &[Channel], out: &mut [i64]) {
     for (slot, c) in out.iter_mut().zip(channels) {
-        *slot = c.value(m.read(c.loc));
+        *slot = c.sample(m);
     }
 }

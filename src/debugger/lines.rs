@@ -6,11 +6,16 @@ use std::collections::BTreeSet;
 /// lines in the unchanged tail move with it, lines inside the changed middle stay where they
 /// were (clamped to the new length).
 pub fn remap_lines(old: &str, new: &str, lines: &BTreeSet<usize>) -> BTreeSet<usize> {
-    if old.is_empty() {
-        return lines.clone();
-    }
+    let map = line_mover(old, new);
+    lines.iter().filter_map(|&l| map(l)).collect()
+}
+
+/// Where each 1-based line of `old` is in `new` (by the rule of [`remap_lines`]); `None` when
+/// it is past the end of the new text.
+pub fn line_mover(old: &str, new: &str) -> impl Fn(usize) -> Option<usize> + use<> {
     let old_lines: Vec<&str> = old.lines().collect();
     let new_lines: Vec<&str> = new.lines().collect();
+    let unchanged = old.is_empty();
     let head = old_lines
         .iter()
         .zip(&new_lines)
@@ -26,20 +31,21 @@ pub fn remap_lines(old: &str, new: &str, lines: &BTreeSet<usize>) -> BTreeSet<us
         .count();
     let old_tail_start = old_lines.len() - tail;
     let shift = new_lines.len() as i64 - old_lines.len() as i64;
-    lines
-        .iter()
-        .filter_map(|&line| {
-            let index = line - 1;
-            let moved = if index < head {
-                index as i64
-            } else if index >= old_tail_start {
-                index as i64 + shift
-            } else {
-                index.min(new_lines.len().saturating_sub(1)) as i64
-            };
-            (moved >= 0 && (moved as usize) < new_lines.len().max(1)).then_some(moved as usize + 1)
-        })
-        .collect()
+    let new_len = new_lines.len();
+    move |line: usize| {
+        if unchanged {
+            return Some(line);
+        }
+        let index = line.checked_sub(1)?;
+        let moved = if index < head {
+            index as i64
+        } else if index >= old_tail_start {
+            index as i64 + shift
+        } else {
+            index.min(new_len.saturating_sub(1)) as i64
+        };
+        (moved >= 0 && (moved as usize) < new_len.max(1)).then_some(moved as usize + 1)
+    }
 }
 
 #[cfg(test)]

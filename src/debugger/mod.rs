@@ -8,20 +8,28 @@
 //! No egui here: everything the GUI can do is a method a unit test can call. The GUI calls
 //! [`Debugger::advance`] once per frame with a time budget, so a run never blocks a frame.
 
+pub mod breakpoints;
 pub mod engine;
+pub mod expr;
 pub mod history;
 mod lines;
+pub mod log;
 mod run;
 pub mod trace;
+mod watch;
 
+use std::cell::RefCell;
 use std::collections::BTreeSet;
 
+pub use breakpoints::{BreakError, BreakKind, Breakpoint, DataTrigger, LogMessage};
 pub use engine::{Engine, StopWhen, engine};
 pub use lines::remap_lines;
 pub use run::{Event, Goal, Speed};
+pub use watch::Watch;
 
 use crate::machine::registry::{self, Dialect, Settings};
 use crate::machine::{Diagnostic, Loc, MachineView, Pos, StopReason, value};
+use breakpoints::Checker;
 use history::{Change, Mark, MarkKind, UserEvent};
 use trace::{Channel, MAX_CHANNELS, Trace};
 
@@ -43,7 +51,12 @@ pub struct Debugger {
     engine: Box<dyn Engine>,
     /// The plot channels by location name (resolved against each assembled program).
     channel_names: Vec<ChannelChoice>,
-    breakpoints: BTreeSet<usize>,
+    breaks: Vec<Breakpoint>,
+    /// `breaks` compiled against the current program, with hit counts and the log.
+    checker: RefCell<Checker>,
+    watches: Vec<Watch>,
+    /// The last "who wrote this?" answer: asking again at it goes further back.
+    last_writer: Option<(Loc, Pos)>,
     goal: Option<Goal>,
     /// Skip the breakpoint on the current line once (resuming from it).
     resume_past_breakpoint: bool,
@@ -120,16 +133,21 @@ impl Debugger {
         source: impl Into<String>,
     ) -> Self {
         let settings = dialect.default_settings();
+        let engine = empty_engine(dialect, &settings);
+        let checker = RefCell::new(Checker::new(&[], engine.machine()));
         let mut d = Debugger {
             dialect,
             name: name.into(),
             source: crate::text::normalize(&source.into()).into_owned(),
             assembled_source: String::new(),
             diagnostics: Vec::new(),
-            engine: empty_engine(dialect, &settings),
+            engine,
             settings,
             channel_names: ChannelChoice::defaults(dialect),
-            breakpoints: BTreeSet::new(),
+            breaks: Vec::new(),
+            checker,
+            watches: Vec::new(),
+            last_writer: None,
             goal: None,
             resume_past_breakpoint: false,
             break_on_error: false,
@@ -169,6 +187,7 @@ impl Debugger {
         let channels = d.resolve_channels(engine.machine());
         d.engine = engine.restarted(events, channels);
         d.set_breakpoints(breakpoints);
+        d.rebuild_checker(false);
         d.event = None;
         d.replay_to(furthest, &mut |_| true);
         Ok(d)
@@ -232,8 +251,13 @@ impl Debugger {
     pub fn pos(&self) -> Pos {
         self.machine().pos()
     }
-    pub fn breakpoints(&self) -> &BTreeSet<usize> {
-        &self.breakpoints
+    /// The lines with an enabled line breakpoint.
+    pub fn breakpoints(&self) -> BTreeSet<usize> {
+        self.breaks
+            .iter()
+            .filter(|b| b.enabled)
+            .filter_map(Breakpoint::line_number)
+            .collect()
     }
     pub fn is_running(&self) -> bool {
         self.goal.is_some()
@@ -309,19 +333,35 @@ impl Debugger {
         self.channel_names
             .iter()
             .filter_map(|c| {
-                let loc = m.find(&c.location)?;
-                let info = m.info(loc)?;
-                Some(Channel {
-                    loc,
-                    label: if c.label.is_empty() {
-                        info.name.clone()
+                let label = |name: &str| {
+                    if c.label.is_empty() {
+                        name.to_string()
                     } else {
                         c.label.clone()
-                    },
-                    name: info.name,
-                    width: info.width,
-                    signed: info.signed,
+                    }
+                };
+                if let Some(loc) = m.find(&c.location) {
+                    let info = m.info(loc)?;
+                    return Some(Channel {
+                        loc,
+                        label: label(&info.name),
+                        name: info.name,
+                        width: info.width,
+                        signed: info.signed,
+                        group: c.group,
+                        expr: None,
+                    });
+                }
+                // Not a location: a watch expression plotted as a channel.
+                let expr = expr::Expr::compile(&c.location, m).ok()?;
+                Some(Channel {
+                    loc: Loc::new(0, 0),
+                    label: label(expr.text()),
+                    name: expr.text().to_string(),
+                    width: 64,
+                    signed: true,
                     group: c.group,
+                    expr: Some(expr),
                 })
             })
             .take(MAX_CHANNELS)
@@ -372,7 +412,7 @@ impl Debugger {
         self.name = name.into();
         self.source = crate::text::normalize(&source.into()).into_owned();
         self.assembled_source.clear();
-        self.breakpoints.clear();
+        self.breaks.clear();
         self.assemble();
         // The text is as loaded, not edited, even when it does not assemble.
         self.assembled_source = self.source.clone();
@@ -384,6 +424,8 @@ impl Debugger {
         let channels = self.resolve_channels(self.engine.machine());
         self.engine = self.engine.restarted(Vec::new(), channels);
         self.goal = None;
+        self.last_writer = None;
+        self.rebuild_checker(false);
     }
 
     /// Assemble the current text. On success the machine restarts on the new program and
@@ -393,8 +435,11 @@ impl Debugger {
         self.goal = None;
         match (self.dialect.open)(&self.source, &self.settings) {
             Ok(engine) => {
-                let moved = remap_lines(&self.assembled_source, &self.source, &self.breakpoints);
-                self.breakpoints = moved;
+                let moved = lines::line_mover(&self.assembled_source, &self.source);
+                self.breaks.retain_mut(|b| match &mut b.kind {
+                    BreakKind::Line(l) => moved(*l).map(|to| *l = to).is_some(),
+                    BreakKind::Data { .. } => true,
+                });
                 self.engine = engine;
                 self.restart();
                 self.assembled_source = self.source.clone();
@@ -422,21 +467,100 @@ impl Debugger {
 
     // ---- breakpoints -----------------------------------------------------------------------
 
-    /// Toggle a breakpoint on a 1-based line. Returns whether it is now set.
+    /// Toggle a plain breakpoint on a 1-based line: removes every breakpoint of the line when
+    /// there is one. Returns whether the line now has one.
     pub fn toggle_breakpoint(&mut self, line: usize) -> bool {
         if line == 0 {
             return false;
         }
-        if self.breakpoints.remove(&line) {
-            false
-        } else {
-            self.breakpoints.insert(line);
-            true
+        let before = self.breaks.len();
+        self.breaks.retain(|b| b.line_number() != Some(line));
+        let set = self.breaks.len() == before;
+        if set {
+            self.breaks.push(Breakpoint::line(line));
+        }
+        self.rebuild_checker(true);
+        set
+    }
+
+    /// Plain breakpoints on these lines, replacing every breakpoint.
+    pub fn set_breakpoints(&mut self, lines: impl IntoIterator<Item = usize>) {
+        let lines: BTreeSet<usize> = lines.into_iter().filter(|&l| l > 0).collect();
+        self.set_breakpoint_list(lines.into_iter().map(Breakpoint::line).collect());
+    }
+
+    /// Every breakpoint, in the order of the list panel.
+    pub fn breakpoint_list(&self) -> &[Breakpoint] {
+        &self.breaks
+    }
+
+    /// Replace every breakpoint (a session loading); hit counts start at 0.
+    pub fn set_breakpoint_list(&mut self, list: Vec<Breakpoint>) {
+        self.breaks = list
+            .into_iter()
+            .filter(|b| b.line_number() != Some(0))
+            .collect();
+        self.rebuild_checker(false);
+    }
+
+    /// Add a breakpoint; returns its index in the list. The problem with its condition,
+    /// message or location, if any, is [`Debugger::breakpoint_error`].
+    pub fn add_breakpoint(&mut self, b: Breakpoint) -> usize {
+        self.breaks.push(b);
+        self.rebuild_checker(true);
+        self.breaks.len() - 1
+    }
+
+    /// Change a breakpoint (its hit count so far stays).
+    pub fn update_breakpoint(&mut self, index: usize, b: Breakpoint) {
+        if let Some(slot) = self.breaks.get_mut(index) {
+            *slot = b;
+            self.rebuild_checker(true);
         }
     }
 
-    pub fn set_breakpoints(&mut self, lines: impl IntoIterator<Item = usize>) {
-        self.breakpoints = lines.into_iter().filter(|&l| l > 0).collect();
+    pub fn remove_breakpoint(&mut self, index: usize) {
+        if index < self.breaks.len() {
+            self.breaks.remove(index);
+            let old = self
+                .checker
+                .replace(Checker::new(&self.breaks, self.machine()));
+            let mut hits: Vec<u64> = (0..=self.breaks.len()).map(|i| old.hits(i)).collect();
+            hits.remove(index);
+            let new = self.checker.get_mut();
+            new.set_hits(&hits);
+            new.log = old.log;
+            new.rebuild_logged();
+        }
+    }
+
+    /// Why a breakpoint cannot work in the current program (a condition that does not parse,
+    /// a location that does not exist); it is inactive until fixed.
+    pub fn breakpoint_error(&self, index: usize) -> Option<BreakError> {
+        self.checker.borrow().errors.get(index).cloned().flatten()
+    }
+
+    /// How many times a forward run passed the breakpoint with its condition holding.
+    pub fn breakpoint_hits(&self, index: usize) -> u64 {
+        self.checker.borrow().hits(index)
+    }
+
+    /// The messages log points wrote, oldest first.
+    pub fn log_messages(&self) -> std::cell::Ref<'_, [LogMessage]> {
+        std::cell::Ref::map(self.checker.borrow(), |c| c.log.as_slice())
+    }
+
+    /// Compile the breakpoints against the current program, keeping the hit counts and log
+    /// (`keep`) or starting both afresh.
+    fn rebuild_checker(&mut self, keep: bool) {
+        let mut new = Checker::new(&self.breaks, self.engine.machine());
+        if keep {
+            let old = self.checker.borrow();
+            new.keep_hits(&old);
+            new.log = old.log.clone();
+        }
+        new.rebuild_logged();
+        self.checker = RefCell::new(new);
     }
 
     // ---- edits -----------------------------------------------------------------------------
@@ -459,6 +583,7 @@ impl Debugger {
         let at = self.pos();
         if self.engine.edit(loc, change)? {
             self.event = Some(Event::FutureDiscarded(at.tick));
+            self.checker.borrow_mut().forget_log_after(at);
         }
         Ok(())
     }

@@ -83,6 +83,23 @@ pub enum Event {
     Assembled,
     /// An edit in the past rewrote history from this tick on.
     FutureDiscarded(u64),
+    /// A data breakpoint: `location` changed from `old` to `new` by the instruction on `line`.
+    Watchpoint {
+        location: String,
+        line: usize,
+        old: i64,
+        new: i64,
+    },
+    /// "Who wrote this?" went to the write of `location` at `at`: by the instruction on
+    /// `line`, or by the user's edit (no line).
+    WrittenBy {
+        location: String,
+        at: crate::machine::Pos,
+        line: Option<usize>,
+        explanation: String,
+    },
+    /// "Who wrote this?" found no write: the location holds its value from the start.
+    NeverWritten(String),
 }
 
 impl Event {
@@ -105,6 +122,27 @@ impl Event {
             Event::Assembled => "Program assembled".to_string(),
             Event::FutureDiscarded(t) => {
                 format!("Edited at {tick} {t}: the recorded future after it was discarded")
+            }
+            Event::Watchpoint {
+                location,
+                line,
+                old,
+                new,
+            } => format!("{location} written at line {line}: {old} → {new}"),
+            Event::WrittenBy {
+                location,
+                at,
+                line: Some(l),
+                explanation,
+            } => format!("{location} was written at {tick} {at}, line {l}: {explanation}"),
+            Event::WrittenBy {
+                location,
+                at,
+                line: None,
+                explanation,
+            } => format!("{location} was set at {tick} {at} by {explanation}"),
+            Event::NeverWritten(name) => {
+                format!("Nothing wrote {name} before here: it holds its value from the start")
             }
         }
     }
@@ -162,6 +200,7 @@ impl Debugger {
         self.resume_past_breakpoint = true;
         self.event = None;
         self.lamp_was_on = self.machine().error_lamp();
+        self.checker.get_mut().prime(self.engine.machine());
     }
 
     /// Stop running (F6). Answers at once: the run only advances inside `advance`.
@@ -250,7 +289,7 @@ impl Debugger {
                 whole as u64
             }
         };
-        let table = self.breakpoint_table();
+        let checker = (!self.checker.get_mut().is_empty()).then_some(&self.checker);
         // Break on error stops when the lamp turns on: not if it was on as the run began.
         let on_error = self.break_on_error && !self.lamp_was_on;
         let line = match goal {
@@ -285,7 +324,7 @@ impl Debugger {
                 _ if commands == u64::MAX => self.engine.forward(
                     chunk,
                     &StopWhen {
-                        breakpoints: &table,
+                        checker,
                         line,
                         skip_first: skip,
                         on_error,
@@ -294,7 +333,7 @@ impl Debugger {
                 ),
                 _ => {
                     let at_stop = StopWhen {
-                        breakpoints: &table,
+                        checker,
                         line,
                         on_error,
                         ..StopWhen::default()
@@ -338,19 +377,51 @@ impl Debugger {
     fn reached(&mut self, goal: Goal) {
         self.goal = None;
         let line = self.machine().pc_line().unwrap_or(0);
+        let hit = self.checker.get_mut().hit.take();
         self.event = Some(match goal {
             Goal::FinishStep => Event::Stepped,
             Goal::ToTick(t) => Event::ReachedTick(t),
-            Goal::ToLine(l) if l == line => Event::ReachedLine(line),
-            _ if self.break_on_error && self.machine().error_lamp() && !self.lamp_was_on => {
+            Goal::ToLine(l) if l == line && hit.is_none() => Event::ReachedLine(line),
+            _ if hit.is_none()
+                && self.break_on_error
+                && self.machine().error_lamp()
+                && !self.lamp_was_on =>
+            {
                 self.engine.mark(MarkKind::Fault, line);
                 Event::ErrorLamp(line)
             }
-            _ => {
-                self.engine.mark(MarkKind::Breakpoint, line);
-                Event::Breakpoint(line)
+            _ => self.breakpoint_event(hit),
+        });
+    }
+
+    /// The event of a breakpoint hit, marked on the timeline.
+    fn breakpoint_event(&mut self, hit: Option<super::breakpoints::Hit>) -> Event {
+        let pc_line = self.machine().pc_line().unwrap_or(0);
+        let data = hit.and_then(|h| {
+            let b = self.breaks.get(h.index)?;
+            match (&b.kind, h.values) {
+                (super::BreakKind::Data { location, .. }, Some((old, new))) => {
+                    Some((location.clone(), old, new))
+                }
+                _ => None,
             }
         });
+        match data {
+            Some((location, old, new)) => {
+                let line = self.machine().last_line().unwrap_or(0);
+                self.engine.mark(MarkKind::Breakpoint, line);
+                Event::Watchpoint {
+                    location,
+                    line,
+                    old,
+                    new,
+                }
+            }
+            None => {
+                self.engine.mark(MarkKind::Breakpoint, pc_line);
+                Event::Breakpoint(pc_line)
+            }
+        }
     }
 
     /// One frame at a factor of real time: exactly the ticks `dt` is worth (fractions carry
@@ -366,9 +437,9 @@ impl Debugger {
         let whole = self.credit.floor();
         self.credit -= whole;
         let target = Pos::at_tick(self.pos().tick.saturating_add(whole as u64));
-        let table = self.breakpoint_table();
+        let checker = (!self.checker.get_mut().is_empty()).then_some(&self.checker);
         let stop = StopWhen {
-            breakpoints: &table,
+            checker,
             line: match goal {
                 Goal::ToLine(l) => Some(l),
                 _ => None,
@@ -388,15 +459,6 @@ impl Debugger {
             }
             StopReason::TickLimit => true,
         }
-    }
-
-    fn breakpoint_table(&self) -> Vec<bool> {
-        let len = self.breakpoints.last().map_or(0, |&l| l + 1);
-        let mut table = vec![false; len];
-        for &l in &self.breakpoints {
-            table[l] = true;
-        }
-        table
     }
 
     // ---- time travel -----------------------------------------------------------------------
@@ -469,22 +531,53 @@ impl Debugger {
         self.event = Some(Event::SteppedBack);
     }
 
-    /// Back to the last time a breakpoint was about to run, or the start (Shift+F5).
+    /// Back to the last time a breakpoint stopped a run, or the start (Shift+F5): line
+    /// breakpoints before their line, data breakpoints after the write.
     pub fn reverse_continue(&mut self) {
         let Some(now) = self.going_back() else {
             return;
         };
-        let table = self.breakpoint_table();
+        let checker = std::cell::RefCell::new(super::breakpoints::Checker::backward(
+            &self.breaks,
+            self.engine.machine(),
+        ));
         let at_breakpoint = StopWhen {
-            breakpoints: &table,
+            checker: Some(&checker),
             ..StopWhen::default()
         };
         let hit = self.engine.find_back(now, &at_breakpoint);
         self.engine.goto(hit.unwrap_or_default());
+        // The search ran past the hit it found: ask again at the hit for its values.
+        let which = hit.and_then(|_| {
+            let mut c = checker.into_inner();
+            c.hit.take()
+        });
         self.event = Some(match hit {
-            Some(_) => Event::Breakpoint(self.machine().pc_line().unwrap_or(0)),
+            Some(_) => {
+                let event = self.breakpoint_event(which);
+                self.reverse_values(event)
+            }
             None => Event::NoEarlierBreakpoint,
         });
+    }
+
+    /// A data breakpoint's values as they are at the position gone back to (the search's own
+    /// record is of the last match it evaluated, which may be a later one).
+    fn reverse_values(&self, event: Event) -> Event {
+        match event {
+            Event::Watchpoint { location, line, .. } => {
+                let new = self
+                    .find(&location)
+                    .map_or(0, |loc| crate::machine::value_of(self.machine(), loc));
+                Event::Watchpoint {
+                    location,
+                    line,
+                    old: new,
+                    new,
+                }
+            }
+            other => other,
+        }
     }
 }
 

@@ -32,9 +32,20 @@ pub struct Channel {
     pub signed: bool,
     /// Channels of the same group share a plot.
     pub group: u8,
+    /// A watch expression plotted instead of the location (`loc` is then unused).
+    pub expr: Option<crate::debugger::expr::Expr>,
 }
 
 impl Channel {
+    /// The channel's number in `m`'s present state.
+    #[inline]
+    pub fn sample<M: crate::machine::MachineView + ?Sized>(&self, m: &M) -> i64 {
+        match &self.expr {
+            Some(e) => e.eval(m),
+            None => self.value(m.read(self.loc)),
+        }
+    }
+
     /// The stored number for raw bits of this location.
     #[inline]
     pub fn value(&self, raw: u64) -> i64 {

@@ -272,6 +272,11 @@ pub trait MachineView: Send + 'static {
     /// Locations the last executed instruction wrote (plus those the machine itself drives,
     /// such as motion registers while the motor moves).
     fn last_written(&self) -> Vec<Loc>;
+    /// Whether the last executed instruction wrote `loc` (data breakpoints and "who wrote
+    /// this?" ask it at every instruction boundary; dialects answer without a list).
+    fn wrote(&self, loc: Loc) -> bool {
+        self.last_written().contains(&loc)
+    }
     /// The last executed instruction in words, with its operand values. Built on demand.
     fn explain_last(&self) -> Option<String>;
     /// 1-based line of the last executed instruction.

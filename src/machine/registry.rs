@@ -145,6 +145,9 @@ pub struct Dialect {
     /// The shortest text that assembles to a program doing nothing: what the debugger stands on
     /// while the user's text does not assemble ("" for most; DL205 requires END).
     pub empty_program: &'static str,
+    /// The error flags "break on error" watches ([`crate::machine::MachineView::error_lamp`]),
+    /// as the checkbox names them.
+    pub error_flags: &'static str,
     /// Assemble `source` into a machine with these settings.
     pub open: fn(source: &str, settings: &Settings) -> OpenResult,
     /// Colour class of every character of one line (without its newline).

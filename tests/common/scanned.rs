@@ -283,6 +283,7 @@ pub static SCANNED: Dialect = Dialect {
     at_limit: AtLimit::Ended,
     new_program: "END\n",
     empty_program: "",
+    error_flags: "none",
     open,
     classify: plain,
     #[cfg(feature = "gui")]

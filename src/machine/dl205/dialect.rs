@@ -42,6 +42,7 @@ pub static DIALECT: Dialect = Dialect {
     at_limit: AtLimit::Ended,
     new_program: "// A new DL205 program\nSTR X0\nOUT Y0\nEND\n",
     empty_program: "END\n",
+    error_flags: "SP53 divide by zero, SP75 non-BCD data",
     open,
     classify: super::syntax::classify,
     #[cfg(feature = "gui")]

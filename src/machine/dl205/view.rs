@@ -268,6 +268,10 @@ impl MachineView for Dl205 {
             .and_then(|i| self.program.instrs.get(i as usize))
             .map(|i| i.line)
     }
+    /// SP53 (divide by zero) or SP75 (a non-BCD digit): the DL205's own error flags.
+    fn error_lamp(&self) -> bool {
+        self.sp[super::program::sp::SP53] || self.sp[super::program::sp::SP75]
+    }
     fn report_json(&self) -> String {
         let mut regs = vec![format!("\"ACC\":{}", self.acc)];
         regs.extend(

@@ -51,6 +51,7 @@ pub static DIALECT: Dialect = Dialect {
     at_limit: AtLimit::Ended,
     new_program: "; A new OpenNet program\nLOD I0\nOUT Q0\nEND\n",
     empty_program: "",
+    error_flags: "M8004, execution error",
     open,
     classify: super::syntax::classify,
     #[cfg(feature = "gui")]

@@ -113,6 +113,7 @@ pub static DIALECT: Dialect = Dialect {
     at_limit: AtLimit::Limit,
     new_program: "; A new SilverLode program\nWRP 11, 1\nEND\n",
     empty_program: "",
+    error_flags: "PSW bit 12, command error",
     open,
     classify: super::syntax::classify,
     #[cfg(feature = "gui")]

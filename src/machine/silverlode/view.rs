@@ -402,6 +402,10 @@ impl MachineView for SilverLode {
     fn last_line(&self) -> Option<usize> {
         self.line_of(self.state().last.pc)
     }
+    /// PSW bit 12: a command error (also when a CER handler caught it and the program goes on).
+    fn error_lamp(&self) -> bool {
+        self.psw() >> 12 & 1 == 1
+    }
     fn report_json(&self) -> String {
         let mut out = String::from("\"registers\":{");
         for (i, v) in self.regs().iter().enumerate() {

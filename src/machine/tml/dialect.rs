@@ -54,6 +54,7 @@ pub static DIALECT: Dialect = Dialect {
     at_limit: AtLimit::Limit,
     new_program: "// A new TML program\nint i;\n\n        i = 1;\n        END;\n",
     empty_program: "",
+    error_flags: "MER, motion error register",
     open,
     classify: super::syntax::classify,
     #[cfg(feature = "gui")]

@@ -377,6 +377,10 @@ impl MachineView for Tml {
             .and_then(|i| self.program.stmts.get(i as usize))
             .map(|s| s.line)
     }
+    /// MER: any motion error bit (bit 14, command error, is the one programs set off).
+    fn error_lamp(&self) -> bool {
+        self.data[d::MER as usize] != 0
+    }
     fn report_json(&self) -> String {
         let mut regs: Vec<String> = PREDEFINED
             .iter()

@@ -1,0 +1,443 @@
+//! Breakpoints with more than a line: conditions, hit counts, log points and data breakpoints,
+//! as the user sets them ([`Breakpoint`], saved in sessions) and compiled against the current
+//! program ([`Checker`], asked at every instruction boundary of a run).
+//!
+//! Decisions where a professional debugger leaves room:
+//! - A line breakpoint stops *before* its line runs; a data breakpoint stops right *after* the
+//!   instruction that wrote its location, so the explanation shows that write. Both forward
+//!   (Run) and backward (reverse-continue) land on the same positions.
+//! - Data breakpoints look at every instruction boundary. A value the machine changes inside a
+//!   long instruction (a position during a SilverLode move) is seen when that instruction
+//!   completes. "Written" counts writes of the same value; "changed" compares with the value at
+//!   the previous boundary; "equals V" fires when the value becomes V (not while it stays V).
+//! - Hits are counted as a forward run passes a breakpoint whose condition holds, from the start
+//!   of the timeline; Reset and a new assembly clear them; going back in time does not uncount
+//!   them. A hit count N lets the first N − 1 hits pass and stops on the Nth and every later one.
+//!   Reverse-continue ignores hit counts and log points (it looks for the last stop, not a count).
+//! - A log point never stops: it adds its message, with `{EXPR}` holes filled, to the log. A
+//!   position logged twice (after going back and running again) is logged once.
+
+use super::expr::{Expr, ExprError, Message};
+use crate::machine::{Loc, MachineView, Pos, value};
+
+/// What makes a data breakpoint fire.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum DataTrigger {
+    /// Any instruction writes the location (even the value it already held).
+    Write,
+    /// Its value differs from the value at the previous instruction boundary.
+    Change,
+    /// Its value becomes this number (as the location reads: signed ones sign-extended).
+    Equal(i64),
+}
+
+impl DataTrigger {
+    pub fn describe(self) -> String {
+        match self {
+            DataTrigger::Write => "written".to_string(),
+            DataTrigger::Change => "changed".to_string(),
+            DataTrigger::Equal(v) => format!("becomes {v}"),
+        }
+    }
+}
+
+/// Where a breakpoint is.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum BreakKind {
+    /// Before the instruction on this 1-based line runs.
+    Line(usize),
+    /// After an instruction touches this location (by name, so it survives edits).
+    Data {
+        location: String,
+        trigger: DataTrigger,
+    },
+}
+
+/// A breakpoint as the user set it.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct Breakpoint {
+    pub kind: BreakKind,
+    /// Stop only when this expression holds ("" = always).
+    pub condition: String,
+    /// Stop on the Nth hit and later (0 and 1: every hit).
+    pub hit_count: u64,
+    /// A log point's message ("" = a breakpoint that stops).
+    pub log: String,
+    pub enabled: bool,
+}
+
+impl Default for Breakpoint {
+    fn default() -> Self {
+        Breakpoint::line(0)
+    }
+}
+
+impl Breakpoint {
+    pub fn line(line: usize) -> Self {
+        Breakpoint {
+            kind: BreakKind::Line(line),
+            condition: String::new(),
+            hit_count: 0,
+            log: String::new(),
+            enabled: true,
+        }
+    }
+
+    pub fn data(location: impl Into<String>, trigger: DataTrigger) -> Self {
+        Breakpoint {
+            kind: BreakKind::Data {
+                location: location.into(),
+                trigger,
+            },
+            ..Breakpoint::line(0)
+        }
+    }
+
+    pub fn with_condition(mut self, condition: impl Into<String>) -> Self {
+        self.condition = condition.into();
+        self
+    }
+
+    pub fn with_hit_count(mut self, n: u64) -> Self {
+        self.hit_count = n;
+        self
+    }
+
+    pub fn with_log(mut self, message: impl Into<String>) -> Self {
+        self.log = message.into();
+        self
+    }
+
+    pub fn line_number(&self) -> Option<usize> {
+        match self.kind {
+            BreakKind::Line(l) => Some(l),
+            BreakKind::Data { .. } => None,
+        }
+    }
+
+    /// A plain line breakpoint: no condition, count or message (sessions list these by line).
+    pub fn is_plain(&self) -> bool {
+        matches!(self.kind, BreakKind::Line(_))
+            && self.enabled
+            && self.condition.trim().is_empty()
+            && self.hit_count <= 1
+            && self.log.is_empty()
+    }
+
+    /// "line 7", "R4 changed".
+    pub fn describe(&self) -> String {
+        match &self.kind {
+            BreakKind::Line(l) => format!("line {l}"),
+            BreakKind::Data { location, trigger } => format!("{location} {}", trigger.describe()),
+        }
+    }
+}
+
+/// What is wrong with a breakpoint in the current program.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum BreakError {
+    #[error("condition, {0}")]
+    Condition(ExprError),
+    #[error("message, {0}")]
+    Message(ExprError),
+    #[error("there is no location named '{0}'")]
+    Location(String),
+}
+
+/// A message a log point wrote.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LogMessage {
+    pub at: Pos,
+    pub line: usize,
+    pub text: String,
+}
+
+/// What stopped a run.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Hit {
+    /// Index into the debugger's breakpoint list.
+    pub index: usize,
+    /// For a data breakpoint: the value at the previous boundary and now.
+    pub values: Option<(i64, i64)>,
+}
+
+/// Log messages kept at most; past it the oldest quarter goes.
+pub const MAX_LOG: usize = 100_000;
+
+struct Compiled {
+    condition: Option<Expr>,
+    message: Option<Message>,
+    hit_count: u64,
+}
+
+struct DataCheck {
+    index: usize,
+    loc: Loc,
+    width: u8,
+    signed: bool,
+    trigger: DataTrigger,
+    /// The value at the previous boundary.
+    prev: i64,
+}
+
+/// The enabled breakpoints compiled against a program, with their hit counters.
+pub struct Checker {
+    compiled: Vec<Option<Compiled>>,
+    /// Line breakpoints by line (index = line): indices into `compiled`.
+    by_line: Vec<Vec<usize>>,
+    data: Vec<DataCheck>,
+    hits: Vec<u64>,
+    /// Going back: no counts, no log points.
+    backward: bool,
+    pub log: Vec<LogMessage>,
+    /// (position, line) of every message in `log`, so a replayed stretch logs once.
+    logged: std::collections::HashSet<(Pos, usize)>,
+    pub hit: Option<Hit>,
+    /// The problems found compiling, by breakpoint index.
+    pub errors: Vec<Option<BreakError>>,
+}
+
+impl Checker {
+    /// Compile `breakpoints` against `m`'s program. A breakpoint whose condition, message or
+    /// location does not compile is inactive and its error is kept.
+    pub fn new(breakpoints: &[Breakpoint], m: &dyn MachineView) -> Checker {
+        let mut c = Checker {
+            compiled: Vec::new(),
+            by_line: Vec::new(),
+            data: Vec::new(),
+            hits: vec![0; breakpoints.len()],
+            backward: false,
+            log: Vec::new(),
+            logged: Default::default(),
+            hit: None,
+            errors: Vec::new(),
+        };
+        for (index, b) in breakpoints.iter().enumerate() {
+            let compiled = compile(b, m);
+            let (compiled, error) = match compiled {
+                Ok(x) => (Some(x), None),
+                Err(e) => (None, Some(e)),
+            };
+            c.errors.push(error);
+            if b.enabled && compiled.is_some() {
+                match &b.kind {
+                    BreakKind::Line(l) => {
+                        if c.by_line.len() <= *l {
+                            c.by_line.resize_with(l + 1, Vec::new);
+                        }
+                        c.by_line[*l].push(index);
+                    }
+                    BreakKind::Data { location, trigger } => {
+                        if let Some(loc) = m.find(location)
+                            && let Some(info) = m.info(loc)
+                        {
+                            let mut check = DataCheck {
+                                index,
+                                loc,
+                                width: info.width,
+                                signed: info.signed,
+                                trigger: *trigger,
+                                prev: 0,
+                            };
+                            check.prev = check.read(m);
+                            c.data.push(check);
+                        }
+                    }
+                }
+            }
+            c.compiled.push(compiled);
+        }
+        c
+    }
+
+    /// A checker for going back: the same breakpoints, ignoring hit counts and log points.
+    pub fn backward(breakpoints: &[Breakpoint], m: &dyn MachineView) -> Checker {
+        let mut c = Checker::new(breakpoints, m);
+        c.backward = true;
+        c
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.by_line.is_empty() && self.data.is_empty()
+    }
+
+    pub fn hits(&self, index: usize) -> u64 {
+        self.hits.get(index).copied().unwrap_or(0)
+    }
+
+    pub fn reset_hits(&mut self) {
+        self.hits.iter_mut().for_each(|h| *h = 0);
+    }
+
+    /// Take over the hit counts of an earlier checker (the breakpoints were edited, not the
+    /// program): counts stay with breakpoints at the same index.
+    pub fn keep_hits(&mut self, old: &Checker) {
+        for (new, old) in self.hits.iter_mut().zip(&old.hits) {
+            *new = *old;
+        }
+    }
+
+    /// Data breakpoints compare with `m`'s values from here on (a run starting, a search from
+    /// a checkpoint, after a user edit).
+    pub fn prime<M: MachineView + ?Sized>(&mut self, m: &M) {
+        for d in &mut self.data {
+            d.prev = d.read(m);
+        }
+    }
+
+    /// Hit counts by index (a breakpoint removed from the list).
+    pub fn set_hits(&mut self, hits: &[u64]) {
+        for (new, old) in self.hits.iter_mut().zip(hits) {
+            *new = *old;
+        }
+    }
+
+    /// After `log` was replaced: the index of what it holds.
+    pub fn rebuild_logged(&mut self) {
+        self.logged = self.log.iter().map(|l| (l.at, l.line)).collect();
+    }
+
+    /// An edit rewrote the history after `at`: its messages go with it.
+    pub fn forget_log_after(&mut self, at: Pos) {
+        self.log.retain(|l| l.at <= at);
+        self.rebuild_logged();
+    }
+
+    /// Forget the log (a new timeline).
+    pub fn clear_log(&mut self) {
+        self.log.clear();
+        self.logged.clear();
+    }
+
+    /// Whether a line breakpoint could stop on `line` (the gutter, quick tests).
+    pub fn watches_line(&self, line: usize) -> bool {
+        self.by_line.get(line).is_some_and(|v| !v.is_empty())
+    }
+
+    /// Asked at every instruction boundary: whether to stop here. Counts hits, writes log
+    /// messages and says in `hit` which breakpoint stopped.
+    #[inline]
+    pub fn check<M: MachineView + ?Sized>(&mut self, m: &M) -> bool {
+        if !self.data.is_empty() && self.check_data(m) {
+            return true;
+        }
+        if self.by_line.is_empty() {
+            return false;
+        }
+        let Some(line) = m.pc_line() else {
+            return false;
+        };
+        let count = self.by_line.get(line).map_or(0, Vec::len);
+        for k in 0..count {
+            let index = self.by_line[line][k];
+            if self.fire(index, m, line, None) {
+                return true;
+            }
+        }
+        false
+    }
+
+    fn check_data<M: MachineView + ?Sized>(&mut self, m: &M) -> bool {
+        let mut fired = None;
+        for d in &mut self.data {
+            let now = d.read(m);
+            let prev = std::mem::replace(&mut d.prev, now);
+            if fired.is_some() {
+                continue;
+            }
+            let touched = match d.trigger {
+                DataTrigger::Write => m.wrote(d.loc),
+                DataTrigger::Change => now != prev,
+                DataTrigger::Equal(v) => now == v && prev != v,
+            };
+            if touched {
+                fired = Some((d.index, prev, now));
+            }
+        }
+        let Some((index, prev, now)) = fired else {
+            return false;
+        };
+        let line = m.last_line().unwrap_or(0);
+        self.fire(index, m, line, Some((prev, now)))
+    }
+
+    /// A breakpoint's place was reached: its condition, count and message decide.
+    fn fire<M: MachineView + ?Sized>(
+        &mut self,
+        index: usize,
+        m: &M,
+        line: usize,
+        values: Option<(i64, i64)>,
+    ) -> bool {
+        let Some(Some(c)) = self.compiled.get(index) else {
+            return false;
+        };
+        if c.condition.as_ref().is_some_and(|e| !e.holds(m)) {
+            return false;
+        }
+        if self.backward {
+            if c.message.is_some() {
+                return false;
+            }
+            self.hit = Some(Hit { index, values });
+            return true;
+        }
+        self.hits[index] += 1;
+        if self.hits[index] < c.hit_count {
+            return false;
+        }
+        if let Some(message) = &c.message {
+            let at = m.pos();
+            if self.logged.insert((at, line)) {
+                if self.log.len() >= MAX_LOG {
+                    let dropped: Vec<LogMessage> = self.log.drain(..MAX_LOG / 4).collect();
+                    for l in dropped {
+                        self.logged.remove(&(l.at, l.line));
+                    }
+                }
+                self.log.push(LogMessage {
+                    at,
+                    line,
+                    text: message.render(m),
+                });
+            }
+            return false;
+        }
+        self.hit = Some(Hit { index, values });
+        true
+    }
+}
+
+impl DataCheck {
+    #[inline]
+    fn read<M: MachineView + ?Sized>(&self, m: &M) -> i64 {
+        let raw = m.read(self.loc);
+        if self.signed {
+            value::sign_extend(raw, self.width)
+        } else {
+            (raw & value::mask(self.width)) as i64
+        }
+    }
+}
+
+fn compile(b: &Breakpoint, m: &dyn MachineView) -> Result<Compiled, BreakError> {
+    let condition = match b.condition.trim() {
+        "" => None,
+        text => Some(Expr::compile(text, m).map_err(BreakError::Condition)?),
+    };
+    let message = match b.log.as_str() {
+        "" => None,
+        text => Some(Message::compile(text, m).map_err(BreakError::Message)?),
+    };
+    if let BreakKind::Data { location, .. } = &b.kind
+        && m.find(location).is_none()
+    {
+        return Err(BreakError::Location(location.clone()));
+    }
+    Ok(Compiled {
+        condition,
+        message,
+        hit_count: b.hit_count,
+    })
+}

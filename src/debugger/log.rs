@@ -1,0 +1,218 @@
+//! The execution log and "who wrote this?", both computed on demand by replaying the recorded
+//! timeline (nothing is stored per executed instruction).
+//!
+//! The log lists the instructions executed up to the current position, newest last: each with
+//! the position after it (where going shows it as the last executed instruction), its line, its
+//! explanation and the locations it wrote. A filter keeps one line's executions or the writes of
+//! one location. It is built in two passes over stretches of history going back from the
+//! current position: a cheap pass finds the matching positions, a second builds the rows of
+//! the newest ones only.
+
+use std::collections::VecDeque;
+use std::fmt::Write as _;
+
+use super::{Debugger, Event};
+use crate::machine::{Loc, MachineView, Pos, value_of};
+
+/// Which executed instructions the log shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LogFilter {
+    #[default]
+    All,
+    /// Those on this 1-based line.
+    Line(usize),
+    /// Those that wrote this location.
+    Writes(Loc),
+}
+
+impl LogFilter {
+    fn keeps(self, m: &dyn MachineView) -> bool {
+        match self {
+            LogFilter::All => true,
+            LogFilter::Line(l) => m.last_line() == Some(l),
+            LogFilter::Writes(loc) => m.wrote(loc),
+        }
+    }
+}
+
+/// One executed instruction.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LogRow {
+    /// The position right after it.
+    pub at: Pos,
+    /// Instructions executed since the start, this one included.
+    pub step: u64,
+    pub line: usize,
+    pub explanation: String,
+    /// The locations it wrote, by name, with their values after it.
+    pub written: Vec<(String, i64)>,
+}
+
+/// A stretch of the execution log.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ExecutionLog {
+    /// Oldest first; the last is the instruction that ran just before the current position.
+    pub rows: Vec<LogRow>,
+    /// The search went back to here (the start when `complete`).
+    pub searched_from: Pos,
+    /// Nothing older matches: the log reaches the start of the run.
+    pub complete: bool,
+}
+
+/// Ticks of the first stretch searched back; each next one is twice as long.
+const FIRST_STRETCH: u64 = 256;
+
+fn row_of(m: &dyn MachineView) -> LogRow {
+    LogRow {
+        at: m.pos(),
+        step: m.steps(),
+        line: m.last_line().unwrap_or(0),
+        explanation: m.explain_last().unwrap_or_default(),
+        written: m
+            .last_written()
+            .into_iter()
+            .filter_map(|loc| Some((m.info(loc)?.name, value_of(m, loc))))
+            .collect(),
+    }
+}
+
+impl Debugger {
+    /// The last `max_rows` instructions up to the current position that `filter` keeps,
+    /// searching back at most `max_ticks` ticks (a bound on the work: a filter that matches
+    /// rarely on a long history stops there, and `searched_from` says where).
+    pub fn execution_log(
+        &mut self,
+        filter: LogFilter,
+        max_rows: usize,
+        max_ticks: u64,
+    ) -> ExecutionLog {
+        let now = self.pos();
+        let mut kept: VecDeque<Pos> = VecDeque::new();
+        let mut to = now;
+        let mut stretch = FIRST_STRETCH;
+        let mut complete = false;
+        while kept.len() < max_rows {
+            let from_tick = to.tick.saturating_sub(stretch);
+            let scanned = now.tick - from_tick;
+            let from = if from_tick == 0 {
+                // Positions start at 0: "after" something before it includes the first step.
+                None
+            } else {
+                Some(Pos::at_tick(from_tick))
+            };
+            let mut found = Vec::new();
+            self.engine
+                .visit(from.unwrap_or_default(), to, &mut |m: &dyn MachineView| {
+                    if filter.keeps(m) {
+                        found.push(m.pos());
+                    }
+                    true
+                });
+            for p in found.into_iter().rev() {
+                if kept.len() == max_rows {
+                    break;
+                }
+                kept.push_front(p);
+            }
+            match from {
+                None => {
+                    complete = kept.len() < max_rows;
+                    to = Pos::default();
+                    break;
+                }
+                Some(f) => to = f,
+            }
+            if scanned >= max_ticks {
+                break;
+            }
+            stretch = stretch.saturating_mul(2);
+        }
+        let mut rows = Vec::with_capacity(kept.len());
+        if let Some(&first) = kept.front() {
+            let from = if first.step > 0 {
+                Pos::at_tick(first.tick)
+            } else {
+                Pos::at_tick(first.tick.saturating_sub(1))
+            };
+            let mut next = 0;
+            self.engine.visit(from, now, &mut |m: &dyn MachineView| {
+                if kept.get(next) == Some(&m.pos()) {
+                    rows.push(row_of(m));
+                    next += 1;
+                }
+                next < kept.len()
+            });
+        }
+        ExecutionLog {
+            rows,
+            searched_from: if complete { Pos::default() } else { to },
+            complete,
+        }
+    }
+
+    /// Go back to the instruction that last wrote `loc` before the current position (or the
+    /// user's edit that did), landing right after it so its explanation shows. Asked again
+    /// where the last answer landed, it goes to the write before. Returns where it went.
+    pub fn who_wrote(&mut self, loc: Loc) -> Option<Pos> {
+        self.goal = None;
+        if self.has_errors() || self.is_edited() {
+            return None;
+        }
+        let name = self
+            .machine()
+            .info(loc)
+            .map_or_else(|| format!("{loc:?}"), |i| i.name);
+        let now = self.pos();
+        let again = self.last_writer == Some((loc, now));
+        let by_program = if !again && self.machine().wrote(loc) {
+            Some(now)
+        } else {
+            let wrote = move |m: &dyn MachineView| m.wrote(loc);
+            self.engine.find_back_where(now, &wrote)
+        };
+        let limit = if again {
+            now
+        } else {
+            Pos {
+                step: now.step + 1,
+                ..now
+            }
+        };
+        let by_user = self
+            .events()
+            .iter()
+            .filter(|e| e.loc == loc && e.at < limit)
+            .map(|e| e.at)
+            .next_back();
+        let (at, user) = match (by_program, by_user) {
+            (Some(p), Some(u)) if u >= p => (u, true),
+            (Some(p), _) => (p, false),
+            (None, Some(u)) => (u, true),
+            (None, None) => {
+                self.last_writer = None;
+                self.event = Some(Event::NeverWritten(name));
+                return None;
+            }
+        };
+        self.engine.goto(at);
+        self.last_writer = Some((loc, at));
+        let m = self.machine();
+        let mut explanation = if user {
+            String::from("your edit")
+        } else {
+            m.explain_last().unwrap_or_default()
+        };
+        if explanation.is_empty() {
+            explanation.push_str("the machine");
+        }
+        let value = value_of(m, loc);
+        let _ = write!(explanation, " ({name} = {value})");
+        self.event = Some(Event::WrittenBy {
+            location: name,
+            at,
+            line: if user { None } else { m.last_line() },
+            explanation,
+        });
+        Some(at)
+    }
+}
