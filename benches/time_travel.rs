@@ -20,6 +20,7 @@ use servoscope::session::{Session, ViewSettings};
 const TICKS: u64 = 10_000_000;
 
 const PROGRAM: &str = "\
+      WRP 30, 7
 loop: MRV 3000, 38650, 16106128
       CLC INC, 20
       CLD Q_INIT, 10, 40, 4
@@ -89,6 +90,28 @@ fn benches(c: &mut Criterion) {
             total
         })
     });
+    // "Who wrote this?" at the end of the history: R20 is written every round; R30 once, by
+    // the first command, so the whole history is searched.
+    d.goto_tick(TICKS);
+    let end = d.pos();
+    for (name, register) in [
+        ("R20 (written every round)", 20),
+        ("R30 (written once, at the start)", 30),
+    ] {
+        let loc = servoscope::machine::Loc::new(0, register);
+        group.bench_function(format!("who wrote {name}"), |b| {
+            b.iter_custom(|iters| {
+                let mut total = Duration::ZERO;
+                for _ in 0..iters {
+                    d.goto(end);
+                    let start = Instant::now();
+                    black_box(d.who_wrote(loc));
+                    total += start.elapsed();
+                }
+                total
+            })
+        });
+    }
     group.finish();
 
     let mut group = c.benchmark_group("session at 10M ticks");

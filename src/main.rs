@@ -232,7 +232,10 @@ fn run(args: &RunArgs) -> Result<u8, String> {
         None => None,
     };
     let (done, broke) = if trace.is_none() && until.is_none() {
-        (runner::run_engine(engine.as_ref(), &events, max_ticks), None)
+        (
+            runner::run_engine(engine.as_ref(), &events, max_ticks),
+            None,
+        )
     } else {
         let mut trace_file = match trace {
             Some(path) => Some(std::io::BufWriter::new(
@@ -242,9 +245,7 @@ fn run(args: &RunArgs) -> Result<u8, String> {
             None => None,
         };
         let probe = runner::Probe {
-            trace: trace_file
-                .as_mut()
-                .map(|w| w as &mut dyn std::io::Write),
+            trace: trace_file.as_mut().map(|w| w as &mut dyn std::io::Write),
             until,
         };
         let (done, broke, error) =

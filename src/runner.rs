@@ -6,9 +6,9 @@
 use std::fmt::Write as _;
 
 use crate::debugger::Engine;
+use crate::debugger::expr::Expr;
 use crate::debugger::history::{self, Change, UserEvent};
 use crate::machine::registry::{AtLimit, Dialect};
-use crate::debugger::expr::Expr;
 use crate::machine::{Loc, Machine, MachineView, Pos, RunState, SpaceKind, StopReason, value};
 
 /// An input toggle: `input` flips when the tick counter equals `tick`, before that tick runs.
@@ -255,7 +255,9 @@ impl Report<'_> {
             let _ = writeln!(out, "fault: {} at line {}: {}", f.kind, f.line, f.message);
         }
         if let Some(b) = &self.broke {
-            let line = b.line.map_or_else(String::new, |l| format!(", before line {l}"));
+            let line = b
+                .line
+                .map_or_else(String::new, |l| format!(", before line {l}"));
             let _ = writeln!(out, "break: {} at {}{line}", b.expr, b.at);
         }
         out.push_str(&m.report_text());
@@ -290,8 +292,7 @@ pub fn mnemonic(line: &str) -> &str {
     let code = line.trim();
     let code = match code.split_once(':') {
         Some((label, rest))
-            if !label.is_empty()
-                && label.chars().all(|c| c.is_alphanumeric() || c == '_') =>
+            if !label.is_empty() && label.chars().all(|c| c.is_alphanumeric() || c == '_') =>
         {
             rest.trim_start()
         }

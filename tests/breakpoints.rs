@@ -47,7 +47,11 @@ fn a_condition_stops_only_when_it_holds() {
     assert_eq!(d.breakpoint_error(i), None);
     run_to_stop(&mut d);
     assert_eq!(d.event(), Some(&Event::Breakpoint(3)));
-    assert_eq!(value(&d, "R12"), 4, "stopped before line 3 ran a fifth time");
+    assert_eq!(
+        value(&d, "R12"),
+        4,
+        "stopped before line 3 ran a fifth time"
+    );
     run_to_stop(&mut d);
     assert_eq!(d.event(), Some(&Event::Ended), "never true again");
     assert_eq!(value(&d, "R12"), 10);
@@ -67,7 +71,11 @@ fn a_condition_that_does_not_parse_says_where_and_stops_nothing() {
             .is_some_and(|e| e.to_string().contains("BANANA"))
     );
     run_to_stop(&mut d);
-    assert_eq!(d.event(), Some(&Event::Ended), "broken breakpoints are inactive");
+    assert_eq!(
+        d.event(),
+        Some(&Event::Ended),
+        "broken breakpoints are inactive"
+    );
     // Fixing it makes it work.
     let mut fixed = d.breakpoint_list()[i].clone();
     fixed.condition = "R12 > 7".into();
@@ -211,7 +219,10 @@ fn data_breakpoints_match_a_straight_run(
             .filter(|&p| p < end)
             .collect();
         let expected_back: Vec<Pos> = expected.iter().copied().filter(|&p| p < end).collect();
-        assert_eq!(backward, expected_back, "{dialect} {name} {trigger:?} backward");
+        assert_eq!(
+            backward, expected_back,
+            "{dialect} {name} {trigger:?} backward"
+        );
     }
 }
 
@@ -280,9 +291,16 @@ fn a_data_breakpoint_takes_a_condition_and_names_the_write() {
             new: 8
         })
     );
-    assert_eq!(d.machine().last_line(), Some(3), "stopped right after the write");
+    assert_eq!(
+        d.machine().last_line(),
+        Some(3),
+        "stopped right after the write"
+    );
     let i = d.add_breakpoint(Breakpoint::data("R999", DataTrigger::Write));
-    assert!(matches!(d.breakpoint_error(i), Some(BreakError::Location(_))));
+    assert!(matches!(
+        d.breakpoint_error(i),
+        Some(BreakError::Location(_))
+    ));
 }
 
 #[test]
@@ -326,7 +344,10 @@ fn who_wrote_finds_the_users_edit() {
     d.step_command();
     let r20 = d.find("R20").expect("R20");
     assert_eq!(d.who_wrote(r20), Some(edit_at));
-    assert!(matches!(d.event(), Some(Event::WrittenBy { line: None, .. })));
+    assert!(matches!(
+        d.event(),
+        Some(Event::WrittenBy { line: None, .. })
+    ));
     assert_eq!(value_of(d.machine(), r20), 42);
     let first = d.who_wrote(r20).expect("WRP wrote it before");
     assert_eq!(d.machine().last_line(), Some(1));
@@ -363,7 +384,11 @@ fn the_execution_log_lists_steps_newest_last_and_filters() {
     d.goto(middle);
     let before = d.execution_log(LogFilter::All, 1000, u64::MAX);
     assert_eq!(before.rows, all.rows[..=10]);
-    assert_eq!(d.pos(), middle, "building the log leaves the position alone");
+    assert_eq!(
+        d.pos(),
+        middle,
+        "building the log leaves the position alone"
+    );
 }
 
 #[test]
@@ -391,8 +416,16 @@ fn watches_evaluate_and_plot() {
 fn break_on_error_flags_in_every_dialect() {
     // Each program sets its dialect's error flag at a known line and goes on.
     let cases = [
-        ("silverlode", "CER handler\nWRP 10, 0\nCLC DIV, 10\nWRP 11, 1\nEND\nhandler: END\n", 6),
-        ("tml", "int a;\n        a = 1;\n        UPD;\n        a = 2;\n        END;\n", 4),
+        (
+            "silverlode",
+            "CER handler\nWRP 10, 0\nCLC DIV, 10\nWRP 11, 1\nEND\nhandler: END\n",
+            6,
+        ),
+        (
+            "tml",
+            "int a;\n        a = 1;\n        UPD;\n        a = 2;\n        END;\n",
+            4,
+        ),
         ("dl205", "STR SP1\nLD K4\nDIV V2002\nOUT V2000\nEND\n", 4),
         ("opennet", "LODN M0\nDIV(W) 5 0 D0\nMOV(W) 1 D1\nEND\n", 3),
     ];
@@ -444,7 +477,11 @@ fn sessions_keep_breakpoints_watches_and_switches() {
     plain.breakpoint_list.clear();
     let r = plain.restore("p.ron").expect("restores");
     assert_eq!(r.breakpoints(), [2].into());
-    assert!(r.breakpoint_list().iter().all(|b| matches!(b.kind, BreakKind::Line(2))));
+    assert!(
+        r.breakpoint_list()
+            .iter()
+            .all(|b| matches!(b.kind, BreakKind::Line(2)))
+    );
 }
 
 #[test]
@@ -456,7 +493,10 @@ fn breakpoints_follow_edits_and_data_ones_survive_them() {
     assert!(d.assemble());
     assert_eq!(d.breakpoint_list()[0].kind, BreakKind::Line(6));
     assert_eq!(d.breakpoint_list()[0].condition, "R11 == 3");
-    assert!(matches!(d.breakpoint_list()[1].kind, BreakKind::Data { .. }));
+    assert!(matches!(
+        d.breakpoint_list()[1].kind,
+        BreakKind::Data { .. }
+    ));
     let _ = Loc::new(0, 0);
 }
 
@@ -499,11 +539,13 @@ fn the_runner_stops_at_a_break_expression() {
     let path = program.to_str().expect("a path");
     let out = common::servoscope(&["run", path, "--json", "--break", "R12 == 3 && R11 == 7"]);
     assert_eq!(out.status.code(), Some(4), "{out:?}");
-    let report: serde_json::Value =
-        serde_json::from_slice(&out.stdout).expect("one JSON object");
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
     assert_eq!(report["status"], "break");
     assert_eq!(report["break"]["expr"], "R12 == 3 && R11 == 7");
-    assert_eq!(report["break"]["line"], 6, "line 5 just took R11 to 7: the JMP is next");
+    assert_eq!(
+        report["break"]["line"], 6,
+        "line 5 just took R11 to 7: the JMP is next"
+    );
     assert_eq!(report["registers"]["12"], 3);
     // Never true: the run ends as usual.
     let out = common::servoscope(&["run", path, "--json", "--break", "R12 > 100"]);
@@ -523,4 +565,41 @@ fn mnemonics_are_the_first_word_of_the_statement() {
     assert_eq!(mnemonic("        MOV(W) 5 D1"), "MOV(W)");
     assert_eq!(mnemonic("        UPD;"), "UPD");
     assert_eq!(mnemonic("STR X0"), "STR");
+}
+
+#[test]
+fn who_wrote_reaches_far_back_and_follows_rewritten_history() {
+    // About 90,000 ticks: R20 is written by the first command only.
+    let source = "\
+WRP 20, 1
+WRP 11, 30000
+loop: CLC INC, 21
+CLC DEC, 11
+JMP loop, !ZERO
+WRP 22, 5
+END
+";
+    let mut d = debugger("silverlode", source);
+    run_to_stop(&mut d);
+    assert!(d.pos().tick > 80_000);
+    let (r20, r21) = (d.find("R20").expect("R20"), d.find("R21").expect("R21"));
+    assert!(d.who_wrote(r20).is_some());
+    assert_eq!(d.machine().last_line(), Some(1), "back to the very first command");
+    run_to_stop(&mut d);
+    assert!(d.who_wrote(r21).is_some());
+    assert_eq!(d.machine().last_line(), Some(3));
+    assert_eq!(value_of(d.machine(), r21), 30_000);
+    // Rewrite the history in the middle, run on: the edit is the last write of R20 now.
+    d.goto_tick(40_000);
+    d.set_text("R20", "9").expect("an edit");
+    let edit_at = d.pos();
+    run_to_stop(&mut d);
+    assert_eq!(d.who_wrote(r20), Some(edit_at));
+    // And a write recorded after the rewrite is found in the rewritten stretch.
+    d.goto_tick(40_001);
+    d.set_text("R11", "3").expect("an edit");
+    run_to_stop(&mut d);
+    assert!(d.who_wrote(r21).is_some());
+    assert_eq!(d.machine().last_line(), Some(3));
+    assert!(d.pos().tick > 40_001 && d.pos().tick < 40_020);
 }

@@ -12,7 +12,7 @@
 //!   the previous boundary; "equals V" fires when the value becomes V (not while it stays V).
 //! - Hits are counted as a forward run passes a breakpoint whose condition holds, from the start
 //!   of the timeline; Reset and a new assembly clear them; going back in time does not uncount
-//!   them. A hit count N lets the first N − 1 hits pass and stops on the Nth and every later one.
+//!   them. A hit count N lets the first N - 1 hits pass and stops on the Nth and every later one.
 //!   Reverse-continue ignores hit counts and log points (it looks for the last stop, not a count).
 //! - A log point never stops: it adds its message, with `{EXPR}` holes filled, to the log. A
 //!   position logged twice (after going back and running again) is logged once.

@@ -63,12 +63,8 @@ pub trait Engine: Send {
     fn goto(&mut self, pos: Pos);
     /// The last instruction boundary before `before` where `wanted` holds.
     fn find_back(&mut self, before: Pos, wanted: &StopWhen<'_>) -> Option<Pos>;
-    /// The last instruction boundary before `before` where `wanted` holds.
-    fn find_back_where(
-        &mut self,
-        before: Pos,
-        wanted: &dyn Fn(&dyn MachineView) -> bool,
-    ) -> Option<Pos>;
+    /// The last boundary before `before` right after an instruction that wrote `loc`.
+    fn find_write_back(&mut self, before: Pos, loc: Loc) -> Option<Pos>;
     /// Call `f` after each recorded instruction ending in `from < p <= to`, until it says stop.
     fn visit(&mut self, from: Pos, to: Pos, f: &mut dyn FnMut(&dyn MachineView) -> bool);
     /// A user edit at the current position; `Ok(true)` when it discarded a recorded future.
@@ -136,12 +132,8 @@ impl<M: Machine> Engine for Core<M> {
             wanted.holds(m)
         })
     }
-    fn find_back_where(
-        &mut self,
-        before: Pos,
-        wanted: &dyn Fn(&dyn MachineView) -> bool,
-    ) -> Option<Pos> {
-        self.timeline.find_back(before, |m, _| wanted(m))
+    fn find_write_back(&mut self, before: Pos, loc: Loc) -> Option<Pos> {
+        self.timeline.find_write_back(before, loc)
     }
     fn visit(&mut self, from: Pos, to: Pos, f: &mut dyn FnMut(&dyn MachineView) -> bool) {
         self.timeline.visit(from, to, |m| f(m));

@@ -116,6 +116,10 @@ pub struct Timeline<M: Machine> {
     pub trace: Trace,
     channels: Vec<Channel>,
     checkpoints: Vec<M>,
+    /// For each checkpoint's stretch (up to the next one): the locations its instructions
+    /// wrote, as a 256-bit Bloom set (exact for up to 256 locations of a space). "Who wrote
+    /// this?" replays only the stretches whose set may hold the location.
+    written: Vec<WriteSet>,
     events: Vec<UserEvent>,
     /// Index of the first event not applied yet (all events at or before the current position
     /// are).
@@ -134,6 +138,7 @@ impl<M: Machine> Timeline<M> {
             trace: Trace::new(channels.len()),
             channels,
             checkpoints: vec![start],
+            written: vec![WriteSet::default()],
             events,
             next_event: 0,
             furthest: Pos::default(),
@@ -167,7 +172,7 @@ impl<M: Machine> Timeline<M> {
     /// Bytes held by checkpoints, events and the trace.
     pub fn memory_bytes(&self) -> usize {
         let checkpoint = std::mem::size_of::<M>() + 256;
-        self.checkpoints.len() * checkpoint
+        self.checkpoints.len() * (checkpoint + std::mem::size_of::<WriteSet>())
             + self.events.len() * std::mem::size_of::<UserEvent>()
             + self.trace.memory_bytes()
     }
@@ -181,12 +186,13 @@ impl<M: Machine> Timeline<M> {
 
     /// Run forward until `limit`, the end or a fault, or `stop` (asked before each instruction
     /// starts): applying events at their positions, recording the trace and checkpoints.
-    pub fn forward<F: FnMut(&M) -> bool>(&mut self, limit: Pos, stop: F) -> StopReason {
+    pub fn forward<F: FnMut(&M) -> bool>(&mut self, limit: Pos, mut stop: F) -> StopReason {
         let Timeline {
             machine,
             trace,
             channels,
             checkpoints,
+            written,
             events,
             next_event,
             furthest,
@@ -194,20 +200,98 @@ impl<M: Machine> Timeline<M> {
         } = self;
         let mut values = [0i64; super::trace::MAX_CHANNELS];
         let n = channels.len();
-        let reason = replay(machine, events, next_event, limit, stop, |m, why| {
-            let t = m.ticks();
-            sample(m, channels, &mut values);
-            // A second record of a tick (after an edit) replaces its values.
-            trace.record(t, &values[..n]);
-            if why == Observed::Tick
-                && t.is_multiple_of(CHECKPOINT_EVERY)
-                && checkpoints.last().is_none_or(|c| c.ticks() < t)
-            {
-                checkpoints.push(m.clone());
+        // Writes are noted only where history is new (a re-run noted them the first time).
+        let known = *furthest;
+        let pending = std::cell::Cell::new(WriteSet::default());
+        let note = |m: &M| {
+            if m.pos() > known {
+                let mut set = pending.get();
+                m.for_each_written(&mut |loc| set.insert(loc));
+                pending.set(set);
             }
-        });
+        };
+        let reason = replay(
+            machine,
+            events,
+            next_event,
+            limit,
+            |m| {
+                note(m);
+                stop(m)
+            },
+            |m, why| {
+                let t = m.ticks();
+                sample(m, channels, &mut values);
+                // A second record of a tick (after an edit) replaces its values.
+                trace.record(t, &values[..n]);
+                if why == Observed::Tick
+                    && t.is_multiple_of(CHECKPOINT_EVERY)
+                    && checkpoints.last().is_none_or(|c| c.ticks() < t)
+                {
+                    checkpoints.push(m.clone());
+                    if let Some(last) = written.last_mut() {
+                        last.union(pending.take());
+                    }
+                    written.push(WriteSet::default());
+                }
+            },
+        );
+        // The last boundary is not asked by the run loop.
+        note(machine);
+        if let Some(last) = written.last_mut() {
+            last.union(pending.take());
+        }
         *furthest = (*furthest).max(machine.pos());
         reason
+    }
+
+    /// The last instruction boundary before `before` right after an instruction that wrote
+    /// `loc`: only stretches whose write set may hold it are replayed. Leaves the machine
+    /// where it was.
+    pub fn find_write_back(&mut self, before: Pos, loc: Loc) -> Option<Pos> {
+        let here = self.now();
+        let mut i = self
+            .checkpoints
+            .partition_point(|c| c.pos() < before)
+            .saturating_sub(1);
+        let mut found = None;
+        loop {
+            if self.written.get(i).is_none_or(|w| w.may_hold(loc)) {
+                let end = self
+                    .checkpoints
+                    .get(i + 1)
+                    .map_or(before, |c| c.pos().min(before));
+                self.restore(i);
+                self.rerun(end, |m| {
+                    if m.wrote(loc) {
+                        found = Some(m.pos());
+                    }
+                    false
+                });
+                // The stretch's last boundary, at `end` itself, belongs to the next stretch
+                // unless `end` is `before`; the run loop does not ask it either way.
+            }
+            if found.is_some() || i == 0 {
+                break;
+            }
+            i -= 1;
+        }
+        self.goto(here);
+        found
+    }
+
+    /// Re-run recorded history (at most to the furthest position): the trace and checkpoints
+    /// already hold it, so nothing is recorded again.
+    fn rerun<F: FnMut(&M) -> bool>(&mut self, limit: Pos, stop: F) -> StopReason {
+        let limit = limit.min(self.furthest);
+        replay(
+            &mut self.machine,
+            &self.events,
+            &mut self.next_event,
+            limit,
+            stop,
+            |_, _| {},
+        )
     }
 
     /// Rebuild the state at `pos` (at most the furthest position reached).
@@ -218,7 +302,7 @@ impl<M: Machine> Timeline<M> {
             .partition_point(|c| c.pos() <= pos)
             .saturating_sub(1);
         self.restore(i);
-        self.forward(pos, |_| false);
+        self.rerun(pos, |_| false);
     }
 
     fn restore(&mut self, checkpoint: usize) {
@@ -250,7 +334,7 @@ impl<M: Machine> Timeline<M> {
             let start = self.checkpoints[i].pos();
             self.restore(i);
             let mut first = true;
-            self.forward(before, |m| {
+            self.rerun(before, |m| {
                 let p = m.pos();
                 if wanted(m, std::mem::take(&mut first)) && p < before {
                     found = Some(p);
@@ -279,7 +363,7 @@ impl<M: Machine> Timeline<M> {
         self.restore(i);
         let mut seen = self.machine.steps();
         let mut go = true;
-        self.forward(self.furthest, |m| {
+        self.rerun(self.furthest, |m| {
             let p = m.pos();
             if p > to {
                 return true;
@@ -290,8 +374,10 @@ impl<M: Machine> Timeline<M> {
             seen = m.steps();
             !go
         });
+        // The last boundary (the furthest position, or after END or a fault) is not asked by
+        // the run loop: nothing runs after it.
         let m = &self.machine;
-        if go && !m.run_state().is_live() && m.steps() > seen && m.pos() > from && m.pos() <= to {
+        if go && m.steps() > seen && m.pos() > from && m.pos() <= to {
             f(m);
         }
         self.goto(here);
@@ -311,6 +397,8 @@ impl<M: Machine> Timeline<M> {
         let discarded = now < self.furthest;
         if discarded {
             self.checkpoints.retain(|c| c.pos() <= now);
+            // The stretch holding `now` keeps its set: more than it needs, never less.
+            self.written.truncate(self.checkpoints.len());
             self.events.retain(|e| e.at <= now);
             self.marks.retain(|m| m.at <= now);
             self.trace.truncate_after(now.tick);
@@ -340,5 +428,35 @@ impl<M: Machine> Timeline<M> {
 fn sample<M: MachineView>(m: &M, channels: &[Channel], out: &mut [i64]) {
     for (slot, c) in out.iter_mut().zip(channels) {
         *slot = c.sample(m);
+    }
+}
+
+/// A 256-bit Bloom set of locations.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WriteSet([u64; 4]);
+
+impl WriteSet {
+    /// Exact for indexes below 256 in one space; spaces and larger indexes share bits.
+    #[inline]
+    fn bit(loc: Loc) -> (usize, u64) {
+        let b = (loc.index ^ u32::from(loc.space).wrapping_mul(0x9E37_79B9)) as usize & 255;
+        (b >> 6, 1 << (b & 63))
+    }
+
+    #[inline]
+    pub fn insert(&mut self, loc: Loc) {
+        let (word, bit) = WriteSet::bit(loc);
+        self.0[word] |= bit;
+    }
+
+    pub fn may_hold(&self, loc: Loc) -> bool {
+        let (word, bit) = WriteSet::bit(loc);
+        self.0[word] & bit != 0
+    }
+
+    fn union(&mut self, other: WriteSet) {
+        for (a, b) in self.0.iter_mut().zip(other.0) {
+            *a |= b;
+        }
     }
 }

@@ -167,8 +167,7 @@ impl Debugger {
         let by_program = if !again && self.machine().wrote(loc) {
             Some(now)
         } else {
-            let wrote = move |m: &dyn MachineView| m.wrote(loc);
-            self.engine.find_back_where(now, &wrote)
+            self.engine.find_write_back(now, loc)
         };
         let limit = if again {
             now

@@ -387,7 +387,7 @@ impl Debugger {
 
     // ---- program ---------------------------------------------------------------------------
 
-    /// Replace the whole program (File → Open). Breakpoints are cleared.
+    /// Replace the whole program (File -> Open). Breakpoints are cleared.
     pub fn load(&mut self, name: impl Into<String>, source: impl Into<String>) {
         let dialect = self.dialect;
         self.load_as(dialect, name, source);

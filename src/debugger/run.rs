@@ -128,7 +128,7 @@ impl Event {
                 line,
                 old,
                 new,
-            } => format!("{location} written at line {line}: {old} → {new}"),
+            } => format!("{location} written at line {line}: {old} -> {new}"),
             Event::WrittenBy {
                 location,
                 at,

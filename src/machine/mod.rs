@@ -271,11 +271,25 @@ pub trait MachineView: Send + 'static {
 
     /// Locations the last executed instruction wrote (plus those the machine itself drives,
     /// such as motion registers while the motor moves).
-    fn last_written(&self) -> Vec<Loc>;
+    fn last_written(&self) -> Vec<Loc> {
+        let mut out = Vec::new();
+        self.for_each_written(&mut |loc| {
+            if !out.contains(&loc) {
+                out.push(loc);
+            }
+        });
+        out
+    }
+    /// Each location the last executed instruction wrote (one may come twice): the one
+    /// description of writes, asked at every instruction boundary while recording, so it
+    /// builds no list.
+    fn for_each_written(&self, f: &mut dyn FnMut(Loc));
     /// Whether the last executed instruction wrote `loc` (data breakpoints and "who wrote
-    /// this?" ask it at every instruction boundary; dialects answer without a list).
+    /// this?").
     fn wrote(&self, loc: Loc) -> bool {
-        self.last_written().contains(&loc)
+        let mut hit = false;
+        self.for_each_written(&mut |l| hit |= l == loc);
+        hit
     }
     /// The last executed instruction in words, with its operand values. Built on demand.
     fn explain_last(&self) -> Option<String>;

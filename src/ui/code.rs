@@ -25,6 +25,8 @@ pub struct CodeView {
     /// Where to put the caret next frame, and show (a problem clicked, a match found, a line
     /// asked for).
     pub pending_jump: Option<Jump>,
+    /// The location named where the editor was right-clicked (its context menu).
+    pub menu_location: Option<(String, crate::machine::Loc)>,
     /// The caret as a character index into the text, from the last frame.
     pub cursor_char: Option<usize>,
     /// The find or go-to-line bar above the editor, when open.
@@ -78,6 +80,11 @@ pub const GO_TO_LINE: egui::KeyboardShortcut =
     egui::KeyboardShortcut::new(egui::Modifiers::COMMAND, egui::Key::G);
 
 impl CodeView {
+    /// Scroll to `line` and put the caret at its start.
+    pub fn show_line(&mut self, line: usize) {
+        self.pending_jump = Some(Jump::line(line));
+    }
+
     pub fn reset_view(&mut self) {
         *self = CodeView::default();
     }
@@ -532,6 +539,25 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                         });
                     }
                 }
+                // Right-click on a name: who wrote it, break on it, watch it.
+                if output.response.secondary_clicked()
+                    && let Some(pos) = output.response.interact_pointer_pos()
+                {
+                    let under = output
+                        .galley
+                        .cursor_from_pos(pos - output.galley_pos)
+                        .index
+                        .0;
+                    view.menu_location = word_at(&text, under).and_then(|word| {
+                        let loc = debugger.find(&word)?;
+                        Some((debugger.machine().info(loc)?.name, loc))
+                    });
+                }
+                if let Some((name, loc)) = view.menu_location.clone() {
+                    egui::Response::clone(&output.response).context_menu(|ui| {
+                        super::breakpoints::location_menu(ui, &name, loc, out);
+                    });
+                }
                 gutter_ui(ui, debugger, gutter, &rows, pc_line, &p, &font, out);
             });
             // Clicking below the last line puts the caret at the end, as in any editor.
@@ -691,7 +717,7 @@ fn pc_moved(view: &mut CodeView, pc_line: Option<usize>) -> Option<usize> {
 
 /// Where each line of the laid-out program text is (one row per line: the text never wraps).
 struct LineRows {
-    /// Top and bottom of each line, in screen coordinates; line n is index n − 1.
+    /// Top and bottom of each line, in screen coordinates; line n is index n - 1.
     spans: Vec<(f32, f32)>,
     left: f32,
 }
@@ -746,6 +772,17 @@ fn gutter_ui(
     let clip = ui.clip_rect();
     let error_lines: Vec<usize> = debugger.diagnostics().iter().map(|d| d.line).collect();
     let power = debugger.machine().line_power();
+    // Per line: whether any breakpoint is on it, any enabled, and any with more than a line.
+    let marks: std::collections::BTreeMap<usize, (bool, bool)> = debugger
+        .breakpoint_list()
+        .iter()
+        .filter_map(|b| Some((b.line_number()?, b)))
+        .fold(Default::default(), |mut acc, (line, b)| {
+            let entry = acc.entry(line).or_insert((false, false));
+            entry.0 |= b.enabled;
+            entry.1 |= !b.is_plain() && b.enabled;
+            acc
+        });
     for line in rows.visible(clip.top(), clip.bottom()) {
         let Some(text_row) = rows.rect(line) else {
             continue;
@@ -758,12 +795,30 @@ fn gutter_ui(
         let id = Id::unique(("gutter", line));
         let response = ui.interact(row, id, Sense::click());
         let label = format!("Breakpoint line {line}");
-        let has_bp = debugger.breakpoints().contains(&line);
+        let mark = marks.get(&line).copied();
+        let has_bp = mark.is_some_and(|(enabled, _)| enabled);
         response
             .widget_info(|| egui::WidgetInfo::selected(egui::Role::CheckBox, true, has_bp, &label));
         if response.clicked() {
             out.push(Command::ToggleBreakpoint(line));
         }
+        let response = response.on_hover_text_at_pointer(
+            "Click: breakpoint. Right-click: a conditional breakpoint or a log point",
+        );
+        response.context_menu(|ui| {
+            if ui.button("Add a conditional breakpoint").clicked() {
+                out.push(Command::AddBreakpoint(
+                    crate::debugger::Breakpoint::line(line).with_condition("1"),
+                ));
+                ui.close();
+            }
+            if ui.button("Add a log point").clicked() {
+                out.push(Command::AddBreakpoint(
+                    crate::debugger::Breakpoint::line(line).with_log(format!("line {line}")),
+                ));
+                ui.close();
+            }
+        });
         let painter = ui.painter();
         let has_error = error_lines.contains(&line);
         if response.hovered() && !has_bp {
@@ -773,12 +828,29 @@ fn gutter_ui(
                 p.breakpoint.gamma_multiply(0.35),
             );
         }
-        if has_bp {
-            painter.circle_filled(
-                row.left_center() + vec2(row_height * 0.5, 0.0),
-                row_height * 0.32,
-                p.breakpoint,
-            );
+        match mark {
+            // Enabled, with a condition, count or message: a ring around a dot.
+            Some((true, true)) => {
+                let centre = row.left_center() + vec2(row_height * 0.5, 0.0);
+                painter.circle_stroke(centre, row_height * 0.32, Stroke::new(1.5, p.breakpoint));
+                painter.circle_filled(centre, row_height * 0.16, p.breakpoint);
+            }
+            Some((true, false)) => {
+                painter.circle_filled(
+                    row.left_center() + vec2(row_height * 0.5, 0.0),
+                    row_height * 0.32,
+                    p.breakpoint,
+                );
+            }
+            // Disabled: an outline.
+            Some((false, _)) => {
+                painter.circle_stroke(
+                    row.left_center() + vec2(row_height * 0.5, 0.0),
+                    row_height * 0.3,
+                    Stroke::new(1.0, p.breakpoint.gamma_multiply(0.6)),
+                );
+            }
+            None => {}
         }
         if pc_line == Some(line) {
             let tip = row.left_center() + vec2(row_height * 1.45, 0.0);

@@ -15,6 +15,8 @@ pub enum Purpose {
     OpenProgram,
     SaveSession,
     ExportCsv,
+    /// The execution log, as CSV.
+    ExportLog,
     /// The program's text, as a program file.
     SaveProgram,
 }
@@ -25,6 +27,7 @@ impl Purpose {
             Purpose::OpenProgram => "Open a program or session",
             Purpose::SaveSession => "Save the session",
             Purpose::ExportCsv => "Export the trace as CSV",
+            Purpose::ExportLog => "Export the execution log as CSV",
             Purpose::SaveProgram => "Save the program",
         }
     }
@@ -32,7 +35,7 @@ impl Purpose {
         match self {
             Purpose::OpenProgram => "Open",
             Purpose::SaveSession => "Save",
-            Purpose::ExportCsv => "Export",
+            Purpose::ExportCsv | Purpose::ExportLog => "Export",
             Purpose::SaveProgram => "Save program",
         }
     }
@@ -41,6 +44,7 @@ impl Purpose {
             Purpose::OpenProgram => Command::OpenPath(path),
             Purpose::SaveSession => Command::SaveSessionTo(path),
             Purpose::ExportCsv => Command::ExportCsv(path),
+            Purpose::ExportLog => Command::ExportLog(path),
             Purpose::SaveProgram => Command::SaveProgramTo(path),
         }
     }
@@ -112,6 +116,10 @@ impl PathRequest {
                         .add_filter("CSV", &["csv"])
                         .set_file_name("trace.csv")
                         .save_file(),
+                    Purpose::ExportLog => dialog
+                        .add_filter("CSV", &["csv"])
+                        .set_file_name("log.csv")
+                        .save_file(),
                     Purpose::SaveProgram => dialog
                         .add_filter("Programs", &openable_extensions())
                         .save_file(),
@@ -166,6 +174,7 @@ pub struct Files {
     pub open: PathRequest,
     pub save: PathRequest,
     pub export: PathRequest,
+    pub export_log: PathRequest,
     pub save_program: PathRequest,
 }
 
@@ -175,6 +184,7 @@ impl Default for Files {
             open: PathRequest::new(Purpose::OpenProgram),
             save: PathRequest::new(Purpose::SaveSession),
             export: PathRequest::new(Purpose::ExportCsv),
+            export_log: PathRequest::new(Purpose::ExportLog),
             save_program: PathRequest::new(Purpose::SaveProgram),
         }
     }
@@ -187,6 +197,7 @@ impl Files {
             Purpose::OpenProgram => &mut self.open,
             Purpose::SaveSession => &mut self.save,
             Purpose::ExportCsv => &mut self.export,
+            Purpose::ExportLog => &mut self.export_log,
             Purpose::SaveProgram => &mut self.save_program,
         }
     }
@@ -195,6 +206,7 @@ impl Files {
         self.open.is_waiting()
             || self.save.is_waiting()
             || self.export.is_waiting()
+            || self.export_log.is_waiting()
             || self.save_program.is_waiting()
     }
 
@@ -204,6 +216,7 @@ impl Files {
             &mut self.open,
             &mut self.save,
             &mut self.export,
+            &mut self.export_log,
             &mut self.save_program,
         ] {
             if let Some(path) = request.poll() {
@@ -216,6 +229,7 @@ impl Files {
         path_window(ctx, &mut self.open, &prefs.recent, out);
         path_window(ctx, &mut self.save, &[], out);
         path_window(ctx, &mut self.export, &[], out);
+        path_window(ctx, &mut self.export_log, &[], out);
         path_window(ctx, &mut self.save_program, &[], out);
     }
 }
@@ -273,6 +287,7 @@ fn path_window(
                     Purpose::OpenProgram => Command::OpenDialog,
                     Purpose::SaveSession => Command::SaveSessionDialog,
                     Purpose::ExportCsv => Command::ExportDialog,
+                    Purpose::ExportLog => Command::ExportLogDialog,
                     Purpose::SaveProgram => Command::SaveProgramDialog,
                 });
             }

@@ -1,6 +1,6 @@
 //! The dockable layout: every panel is a tile of an [`egui_tiles::Tree`] that the user can
 //! resize, drag into a tab stack or beside another, close (the × on its tab, or the View menu)
-//! and reopen from the View menu. The tree is kept with the preferences; View → Reset layout
+//! and reopen from the View menu. The tree is kept with the preferences; View -> Reset layout
 //! builds the default again.
 //!
 //! A dialect's own panels are tiles too, named by their title; when the dialect changes,
@@ -10,7 +10,7 @@ use egui_tiles::{Behavior, SimplificationOptions, TileId, Tiles, Tree, UiRespons
 use serde::{Deserialize, Serialize};
 
 use super::panels::DialectPanel;
-use super::{Command, code, plot, registers, timeline};
+use super::{Command, breakpoints, code, log, plot, registers, timeline, watches};
 use crate::debugger::Debugger;
 
 /// One panel of the window.
@@ -22,18 +22,25 @@ pub enum Pane {
     Bits,
     Plot,
     Timeline,
+    Breakpoints,
+    Watches,
+    /// The execution log and log-point messages.
+    Log,
     /// A dialect's own panel, by its title (SilverLode's "Queues").
     Dialect(String),
 }
 
 impl Pane {
     /// The panels every dialect has, in View-menu order.
-    pub const COMMON: [Pane; 5] = [
+    pub const COMMON: [Pane; 8] = [
         Pane::Program,
         Pane::Registers,
         Pane::Bits,
         Pane::Plot,
         Pane::Timeline,
+        Pane::Breakpoints,
+        Pane::Watches,
+        Pane::Log,
     ];
 
     pub fn title(&self) -> &str {
@@ -43,6 +50,9 @@ impl Pane {
             Pane::Bits => "Bits",
             Pane::Plot => "Plot",
             Pane::Timeline => "Timeline",
+            Pane::Breakpoints => "Breakpoints",
+            Pane::Watches => "Watches",
+            Pane::Log => "Log",
             Pane::Dialect(title) => title,
         }
     }
@@ -56,6 +66,7 @@ impl Pane {
             Pane::Bits => egui::vec2(220.0, 60.0),
             Pane::Plot => egui::vec2(200.0, 100.0),
             Pane::Timeline => egui::vec2(300.0, 28.0),
+            Pane::Breakpoints | Pane::Watches | Pane::Log => egui::vec2(220.0, 60.0),
             Pane::Dialect(_) => egui::vec2(160.0, 80.0),
         }
     }
@@ -83,7 +94,8 @@ impl Default for Layout {
 
 impl Layout {
     /// The default arrangement: program over the timeline and the plot (beside the dialect's
-    /// panels) on the left; registers over bits on the right.
+    /// panels) on the left; registers over bits (with the breakpoints, watches and log as tabs
+    /// beside them) on the right.
     pub fn standard(dialect_panels: &[&str]) -> Self {
         let mut tiles = Tiles::default();
         let program = tiles.insert_pane(Pane::Program);
@@ -106,6 +118,10 @@ impl Layout {
         let left = tiles.insert_vertical_tile(vec![program, timeline, lower]);
         let registers = tiles.insert_pane(Pane::Registers);
         let bits = tiles.insert_pane(Pane::Bits);
+        let breakpoints = tiles.insert_pane(Pane::Breakpoints);
+        let watches = tiles.insert_pane(Pane::Watches);
+        let log = tiles.insert_pane(Pane::Log);
+        let bits = tiles.insert_tab_tile(vec![bits, breakpoints, watches, log]);
         let right = tiles.insert_vertical_tile(vec![registers, bits]);
         let root = tiles.insert_horizontal_tile(vec![left, right]);
         set_shares(
@@ -126,6 +142,20 @@ impl Layout {
 
     pub fn contains(&self, pane: &Pane) -> bool {
         self.tree.tiles.find_pane(pane).is_some()
+    }
+
+    /// Drawn in the last frame (in the layout, and the active tab of its stack).
+    pub fn is_shown(&self, pane: &Pane) -> bool {
+        self.tree.tiles.find_pane(pane).is_some_and(|id| {
+            self.tree.is_visible_in_layout(id) && self.tree.tiles.rect(id).is_some()
+        })
+    }
+
+    /// Bring a pane's tab to the front.
+    pub fn focus(&mut self, pane: &Pane) {
+        if let Some(id) = self.tree.tiles.find_pane(pane) {
+            self.tree.make_active(|tile, _| tile == id);
+        }
     }
 
     /// Each shown pane with where it was drawn in the last frame.
@@ -314,6 +344,9 @@ pub struct Panes<'a> {
     pub registers: &'a mut registers::RegisterView,
     pub plot: &'a mut plot::PlotView,
     pub timeline: &'a mut timeline::TimelineView,
+    pub breakpoints: &'a mut breakpoints::BreakpointsView,
+    pub watches: &'a mut watches::WatchesView,
+    pub log: &'a mut log::LogView,
     pub dialect_panels: &'a mut [Box<dyn DialectPanel>],
     pub out: &'a mut Vec<Command>,
 }
@@ -331,10 +364,13 @@ impl Behavior<Pane> for Panes<'_> {
         let debugger = self.debugger;
         match pane {
             Pane::Program => code::show(ui, debugger, self.code, self.out),
-            Pane::Registers => registers::show(ui, debugger, self.registers),
+            Pane::Registers => registers::show(ui, debugger, self.registers, self.out),
             Pane::Bits => registers::show_bits(ui, debugger, self.registers, self.out),
             Pane::Plot => plot::show(ui, debugger, self.plot, self.out),
             Pane::Timeline => timeline::show(ui, debugger, self.timeline, self.out),
+            Pane::Breakpoints => breakpoints::show(ui, debugger, self.breakpoints, self.out),
+            Pane::Watches => watches::show(ui, debugger, self.watches, self.out),
+            Pane::Log => log::show(ui, debugger, self.log, self.out),
             Pane::Dialect(title) => {
                 let height = ui.available_height();
                 match self.dialect_panels.iter_mut().find(|p| p.title() == title) {

@@ -2,6 +2,7 @@
 //! returns what the user asked for as [`Command`]s; [`ServoscopeApp::apply`] carries them out.
 //! No run logic lives here: it is all in `debugger` and `machine`.
 
+pub mod breakpoints;
 pub mod code;
 pub mod code_rows;
 pub mod controls;
@@ -9,6 +10,7 @@ pub mod files;
 pub mod frames;
 pub mod layout;
 pub mod loading;
+pub mod log;
 pub mod panels;
 pub mod plot;
 pub mod registers;
@@ -16,13 +18,15 @@ pub mod settings;
 pub mod status;
 pub mod theme;
 pub mod timeline;
+pub mod watches;
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
 
-use crate::debugger::{ChannelChoice, Debugger, Speed};
+use crate::debugger::{Breakpoint, ChannelChoice, Debugger, Speed, Watch};
+use crate::machine::Pos;
 use crate::machine::registry::{self, Dialect, Settings};
 use crate::machine::{Format, Loc};
 use crate::session::{Session, SessionError, ViewSettings, is_session_path};
@@ -73,7 +77,7 @@ pub enum Command {
     LoadExample(usize),
     /// A lesson session of any dialect, by its index in [`registry::lessons`].
     LoadLesson(usize),
-    /// File → New: an empty program in the dialect with this name.
+    /// File -> New: an empty program in the dialect with this name.
     NewProgram(&'static str),
     SetDark(bool),
     OpenSettings,
@@ -83,6 +87,21 @@ pub enum Command {
     /// Close (false) or reopen (true) a panel.
     ShowPane(layout::Pane, bool),
     ResetLayout,
+    AddBreakpoint(Breakpoint),
+    UpdateBreakpoint(usize, Breakpoint),
+    RemoveBreakpoint(usize),
+    /// Go back to the write of this location (again: the write before).
+    WhoWrote(Loc),
+    AddWatch(String),
+    UpdateWatch(usize, Watch),
+    RemoveWatch(usize),
+    PlotWatch(usize),
+    /// Go to a position of the recorded run (a log entry).
+    GoTo(Pos),
+    /// Scroll the program to a line and put the caret there.
+    ShowLine(usize),
+    ExportLogDialog,
+    ExportLog(PathBuf),
 }
 
 /// Preferences kept between runs by eframe's storage (never the program state).
@@ -143,6 +162,9 @@ pub struct ServoscopeApp {
     pub registers: registers::RegisterView,
     pub plot: plot::PlotView,
     pub timeline: timeline::TimelineView,
+    pub breakpoints: breakpoints::BreakpointsView,
+    pub watches: watches::WatchesView,
+    pub log: log::LogView,
     pub settings: settings::SettingsView,
     pub files: files::Files,
     pub layout: layout::Layout,
@@ -201,6 +223,9 @@ impl ServoscopeApp {
             registers,
             plot: plot::PlotView::default(),
             timeline: timeline::TimelineView::default(),
+            breakpoints: breakpoints::BreakpointsView::default(),
+            watches: watches::WatchesView::default(),
+            log: log::LogView::default(),
             settings: settings::SettingsView::default(),
             files: files::Files::default(),
             layout,
@@ -675,6 +700,52 @@ impl ServoscopeApp {
                 let titles: Vec<&str> = self.panels.iter().map(|p| p.title()).collect();
                 self.layout = layout::Layout::standard(&titles);
             }
+            Command::AddBreakpoint(b) => {
+                self.debugger.add_breakpoint(b);
+                self.layout.set_shown(&layout::Pane::Breakpoints, true);
+                self.layout.focus(&layout::Pane::Breakpoints);
+            }
+            Command::UpdateBreakpoint(i, b) => self.debugger.update_breakpoint(i, b),
+            Command::RemoveBreakpoint(i) => self.debugger.remove_breakpoint(i),
+            Command::WhoWrote(loc) => {
+                if self.debugger.who_wrote(loc).is_some() {
+                    self.code.reset_view();
+                }
+            }
+            Command::AddWatch(text) => {
+                self.debugger.add_watch(text, Format::Signed);
+                self.layout.set_shown(&layout::Pane::Watches, true);
+                self.layout.focus(&layout::Pane::Watches);
+            }
+            Command::UpdateWatch(i, w) => self.debugger.update_watch(i, w),
+            Command::RemoveWatch(i) => self.debugger.remove_watch(i),
+            Command::PlotWatch(i) => {
+                if self.debugger.plot_watch(i) {
+                    self.plot.reset();
+                } else {
+                    self.notice = Some(
+                        "Not plotted: the watch does not compile, or all 8 channels are taken"
+                            .to_string(),
+                    );
+                }
+            }
+            Command::GoTo(pos) => self.debugger.goto(pos),
+            Command::ShowLine(line) => self.code.show_line(line),
+            Command::ExportLogDialog => self.files.export_log.start(ctx),
+            Command::ExportLog(path) => {
+                let rows = self.log.log.rows.len();
+                match crate::atomic::write_atomically(&path, |w| self.log.write_csv(w)) {
+                    Ok(()) => {
+                        self.files.export_log.close();
+                        self.notice =
+                            Some(format!("Exported {rows} log entries to {}", path.display()));
+                    }
+                    Err(e) => self.file_failed(
+                        files::Purpose::ExportLog,
+                        format!("Cannot write {}: {e}", path.display()),
+                    ),
+                }
+            }
             Command::OpenSettings => self.settings.open = true,
             Command::SetSettings(settings) => {
                 self.debugger.set_settings(&settings);
@@ -761,12 +832,18 @@ impl ServoscopeApp {
                 self.layout
                     .show_when(&pane, panel.has_content(&self.debugger));
             }
+            if self.layout.is_shown(&layout::Pane::Log) {
+                self.log.refresh(&mut self.debugger);
+            }
             let mut panes = layout::Panes {
                 debugger: &self.debugger,
                 code: &mut self.code,
                 registers: &mut self.registers,
                 plot: &mut self.plot,
                 timeline: &mut self.timeline,
+                breakpoints: &mut self.breakpoints,
+                watches: &mut self.watches,
+                log: &mut self.log,
                 dialect_panels: &mut self.panels,
                 out: &mut commands,
             };

@@ -97,7 +97,12 @@ pub fn visible_locations(m: &dyn MachineView, only_used: bool) -> Vec<Loc> {
     locs
 }
 
-pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView) {
+pub fn show(
+    ui: &mut egui::Ui,
+    debugger: &Debugger,
+    view: &mut RegisterView,
+    out: &mut Vec<Command>,
+) {
     ui.horizontal_wrapped(|ui| {
         egui::ComboBox::new("register_format", "Format")
             .selected_text(view.format.name())
@@ -113,7 +118,7 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView) {
     egui::ScrollArea::horizontal()
         .id_salt("register_table_sideways")
         .auto_shrink([false, false])
-        .show(ui, |ui| table(ui, debugger, view));
+        .show(ui, |ui| table(ui, debugger, view, out));
 }
 
 /// The Bits panel: flag words as named bits, then the selected location bit by bit.
@@ -253,7 +258,9 @@ fn bit_grid(
         view.edit_shown = Some(raw);
     }
     ui.horizontal(|ui| {
-        ui.heading(&info.name);
+        ui.heading(&info.name)
+            .on_hover_text("Right-click: who wrote it, break on it, watch it")
+            .context_menu(|ui| super::breakpoints::location_menu(ui, &info.name, loc, out));
         if let Some(alias) = info.alias {
             ui.label(RichText::new(alias).strong());
         }
@@ -399,7 +406,7 @@ fn bit_grid(
     }
 }
 
-fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView) {
+fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView, out: &mut Vec<Command>) {
     let p = palette(ui.visuals().dark_mode);
     let m = debugger.machine();
     let rows = visible_locations(m, view.only_used);
@@ -513,6 +520,8 @@ fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView) {
                         format_change = Some((loc, None));
                         ui.close();
                     }
+                    ui.separator();
+                    super::breakpoints::location_menu(ui, &info.name, loc, out);
                 });
             });
         });

@@ -130,7 +130,7 @@ pub fn height(style: &egui::Style) -> f32 {
     2.0 * row + 2.0 * style.spacing.item_spacing.y + 6.0
 }
 
-/// `scan` → `Scan`.
+/// `scan` -> `Scan`.
 pub fn capitalised(word: &str) -> String {
     let mut chars = word.chars();
     chars

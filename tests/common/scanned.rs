@@ -172,9 +172,7 @@ impl MachineView for Scanned {
     fn steps(&self) -> u64 {
         self.steps
     }
-    fn last_written(&self) -> Vec<Loc> {
-        Vec::new()
-    }
+    fn for_each_written(&self, _: &mut dyn FnMut(Loc)) {}
     fn explain_last(&self) -> Option<String> {
         None
     }

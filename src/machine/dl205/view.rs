@@ -212,29 +212,30 @@ impl MachineView for Dl205 {
     fn steps(&self) -> u64 {
         self.steps
     }
-    fn last_written(&self) -> Vec<Loc> {
+    fn for_each_written(&self, f: &mut dyn FnMut(Loc)) {
         use super::program::Op;
         let Some(ins) = self.last.and_then(|i| self.program.instrs.get(i as usize)) else {
-            return Vec::new();
+            return;
         };
-        let mut out = Vec::new();
         if self.acc != self.before.0 || self.moved != super::StackMove::None {
-            out.push(Loc::new(ACC, 0));
-            out.extend((1..=LEVELS as u32).map(|i| Loc::new(ACC, i)));
+            f(Loc::new(ACC, 0));
+            (1..=LEVELS as u32).for_each(|i| f(Loc::new(ACC, i)));
         }
         match ins.op {
-            Op::OutV(a) | Op::IncB(a) | Op::DecB(a) if self.last_ran => out.push(Loc::new(V, a)),
-            Op::OutD(a) if self.last_ran => out.extend([Loc::new(V, a), Loc::new(V, a + 1)]),
-            Op::Coil(b) => out.push(bit_loc(b)),
+            Op::OutV(a) | Op::IncB(a) | Op::DecB(a) if self.last_ran => f(Loc::new(V, a)),
+            Op::OutD(a) if self.last_ran => {
+                f(Loc::new(V, a));
+                f(Loc::new(V, a + 1));
+            }
+            Op::Coil(b) => f(bit_loc(b)),
             Op::Set(a, b) | Op::Rst(a, b) if self.last_ran => {
-                out.extend((a.n..=b.n).map(|n| Loc::new(kind_space(a.kind), n)));
+                (a.n..=b.n).for_each(|n| f(Loc::new(kind_space(a.kind), n)));
             }
             Op::OutF(e, n) if self.last_ran => {
-                out.extend((e.n..e.n + u32::from(n)).map(|i| Loc::new(kind_space(e.kind), i)));
+                (e.n..e.n + u32::from(n)).for_each(|i| f(Loc::new(kind_space(e.kind), i)));
             }
             _ => {}
         }
-        out
     }
     fn line_power(&self) -> Vec<(usize, crate::machine::LinePower)> {
         use crate::machine::LinePower;

@@ -204,30 +204,29 @@ impl MachineView for OpenNet {
     fn steps(&self) -> u64 {
         self.steps
     }
-    fn last_written(&self) -> Vec<Loc> {
+    fn for_each_written(&self, f: &mut dyn FnMut(Loc)) {
         use super::program::{Op, Word};
         let Some(instr) = self.last.and_then(|i| self.program.instrs.get(i as usize)) else {
-            return Vec::new();
+            return;
         };
-        let mut out = Vec::new();
-        let words = |w: &Word, block: u32, offset: u32, out: &mut Vec<Loc>| match *w {
+        let words = |w: &Word, block: u32, offset: u32, f: &mut dyn FnMut(Loc)| match *w {
             Word::Reg { n, .. } => {
-                out.extend((n + offset..n + offset + block).map(|r| Loc::new(D, r)));
+                (n + offset..n + offset + block).for_each(|r| f(Loc::new(D, r)));
             }
             Word::Bits { area, index, .. } => {
                 let start = index + offset * 16;
-                out.extend((start..start + block * 16).map(|b| Loc::new(area_space(area), b)));
+                (start..start + block * 16).for_each(|b| f(Loc::new(area_space(area), b)));
             }
             Word::Const(_) => {}
         };
         match instr.op {
             Op::Out(b, _) | Op::Set(b) | Op::Rst(b) => match b {
-                super::program::Bit::Point(area, i) => out.push(Loc::new(area_space(area), i)),
-                super::program::Bit::Special(s) => out.push(Loc::new(SPECIAL_SPACE, u32::from(s))),
+                super::program::Bit::Point(area, i) => f(Loc::new(area_space(area), i)),
+                super::program::Bit::Special(s) => f(Loc::new(SPECIAL_SPACE, u32::from(s))),
             },
             Op::Mov { ty, dst, .. } if self.last_acted => {
                 for c in &self.last_cycles {
-                    words(&dst, ty.words(), c.dst_at, &mut out);
+                    words(&dst, ty.words(), c.dst_at, f);
                 }
             }
             Op::Arith { op, ty, dst, .. } if self.last_acted => {
@@ -237,19 +236,18 @@ impl MachineView for OpenNet {
                     super::program::Arith::Div => 2 * ty.words(),
                 };
                 for c in self.last_cycles.iter().filter(|c| c.error.is_none()) {
-                    words(&dst, block, c.dst_at, &mut out);
+                    words(&dst, block, c.dst_at, f);
                 }
-                out.push(Loc::new(SPECIAL_SPACE, 0));
+                f(Loc::new(SPECIAL_SPACE, 0));
                 if self.last_cycles.iter().any(|c| c.error.is_some()) {
-                    out.push(Loc::new(SPECIAL_SPACE, M8004 as u32));
+                    f(Loc::new(SPECIAL_SPACE, M8004 as u32));
                 }
             }
             Op::Step { ty, reg, .. } if self.last_acted => {
-                out.extend((reg..reg + ty.words()).map(|r| Loc::new(D, r)));
+                (reg..reg + ty.words()).for_each(|r| f(Loc::new(D, r)));
             }
             _ => {}
         }
-        out
     }
     fn explain_last(&self) -> Option<String> {
         super::explain::explain(self)

@@ -168,13 +168,21 @@ impl SilverLode {
 
     /// Registers the last command wrote, derived from the command and its record.
     pub fn written_by_last(&self) -> Vec<usize> {
-        let last = self.s.last;
         let mut out = Vec::new();
+        self.each_written_register(&mut |r| out.push(r));
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+
+    /// [`SilverLode::written_by_last`] without a list (a register may come twice).
+    fn each_written_register(&self, f: &mut dyn FnMut(usize)) {
+        let last = self.s.last;
         if last.outcome != Outcome::Done {
-            return out;
+            return;
         }
         let Some(&instr) = self.program.instrs.get(last.pc as usize) else {
-            return out;
+            return;
         };
         match instr {
             Instr::Clc { op, reg } => match op {
@@ -188,43 +196,40 @@ impl SilverLode {
                 | ClcOp::ShrS
                 | ClcOp::ShrU
                 | ClcOp::CopyWordHiReg
-                | ClcOp::CopyWordLoReg => out.push(reg as usize),
-                ClcOp::SaveRef => out.push(last.vals[1] as usize),
-                ClcOp::SubTarget => out.extend([0, 1, 6]),
-                _ => out.push(10),
+                | ClcOp::CopyWordLoReg => f(reg as usize),
+                ClcOp::SaveRef => f(last.vals[1] as usize),
+                ClcOp::SubTarget => [0, 1, 6].into_iter().for_each(&mut *f),
+                _ => f(10),
             },
             Instr::Cld { op, res, reg1, .. } | Instr::Clx { op, res, reg1, .. } => {
                 let (res, base) = (res as usize, reg1 as usize);
                 match op {
-                    ExtOp::MultU64 => out.extend([res, res + 1]),
-                    ExtOp::QInit => out.extend([base, base + 1, res]),
-                    ExtOp::QRead => out.push(res),
+                    ExtOp::MultU64 => [res, res + 1].into_iter().for_each(&mut *f),
+                    ExtOp::QInit => [base, base + 1, res].into_iter().for_each(&mut *f),
+                    ExtOp::QRead => f(res),
                     ExtOp::QPushHead | ExtOp::QPushHeadErr => {
                         let head = RawQueue::from_words(last.vals[0], last.vals[1]).head as usize;
-                        out.extend([base + 2 + head, base, base + 1, res]);
+                        [base + 2 + head, base, base + 1, res].into_iter().for_each(&mut *f);
                     }
                     ExtOp::QPushTail | ExtOp::QPushTailErr => {
                         let q = RawQueue::decode(&self.s.regs, base);
                         if let Some(q) = q {
-                            out.push(base + 2 + q.tail as usize);
+                            f(base + 2 + q.tail as usize);
                         }
-                        out.extend([base, base + 1, res]);
+                        [base, base + 1, res].into_iter().for_each(&mut *f);
                     }
-                    _ if op.is_queue() => out.extend([base, base + 1, res]),
-                    _ => out.push(res),
+                    _ if op.is_queue() => [base, base + 1, res].into_iter().for_each(&mut *f),
+                    _ => f(res),
                 }
             }
-            Instr::Wrp { reg, .. } => out.push(reg as usize),
-            Instr::Ztp => out.extend([0, 1, 6]),
-            Instr::Ttp => out.push(0),
+            Instr::Wrp { reg, .. } => f(reg as usize),
+            Instr::Ztp => [0, 1, 6].into_iter().for_each(&mut *f),
+            Instr::Ttp => f(0),
             _ => {}
         }
         if self.s.motion_ticked {
-            out.extend([0, 1, 6, 7]);
+            [0, 1, 6, 7].into_iter().for_each(f);
         }
-        out.sort_unstable();
-        out.dedup();
-        out
     }
 }
 
@@ -395,6 +400,9 @@ impl MachineView for SilverLode {
             .into_iter()
             .map(|r| reg(r as u32))
             .collect()
+    }
+    fn for_each_written(&self, f: &mut dyn FnMut(Loc)) {
+        self.each_written_register(&mut |r| f(reg(r as u32)));
     }
     fn explain_last(&self) -> Option<String> {
         super::explain::explain(self)

@@ -338,8 +338,7 @@ impl MachineView for Tml {
     fn steps(&self) -> u64 {
         self.steps
     }
-    fn last_written(&self) -> Vec<Loc> {
-        let mut out = Vec::new();
+    fn for_each_written(&self, f: &mut dyn FnMut(Loc)) {
         if let Some(stmt) = self.last.and_then(|i| self.program.stmts.get(i as usize)) {
             match stmt.op {
                 Op::Assign(dst, _)
@@ -348,26 +347,24 @@ impl MachineView for Tml {
                 | Op::Add { dst, .. }
                 | Op::Divide(dst, _)
                 | Op::Shift { dst, .. }
-                | Op::Srb { dst, .. } => out.push(operand_loc(&dst)),
+                | Op::Srb { dst, .. } => f(operand_loc(&dst)),
                 Op::Multiply { .. } | Op::ShiftProduct { .. } => {
-                    out.extend([
-                        Loc::new(DATA, PREG_INDEX),
-                        data_loc(d::PROD),
-                        data_loc(d::PRODH),
-                    ]);
+                    [Loc::new(DATA, PREG_INDEX), data_loc(d::PROD), data_loc(d::PRODH)]
+                        .into_iter()
+                        .for_each(&mut *f);
                 }
-                Op::Sap(_) => out.extend([data_loc(d::APOS), data_loc(d::TPOS)]),
+                Op::Sap(_) => [data_loc(d::APOS), data_loc(d::TPOS)]
+                    .into_iter()
+                    .for_each(&mut *f),
                 _ => {}
             }
         }
         if self.profile.active || self.data[d::ASPD as usize] != 0 {
-            out.extend(
-                [d::TPOS, d::TSPD, d::APOS, d::ASPD, d::POSERR]
-                    .into_iter()
-                    .map(data_loc),
-            );
+            [d::TPOS, d::TSPD, d::APOS, d::ASPD, d::POSERR]
+                .into_iter()
+                .map(data_loc)
+                .for_each(f);
         }
-        out
     }
     fn explain_last(&self) -> Option<String> {
         super::explain::explain(self)

@@ -1,0 +1,224 @@
+//! The Log panel: the log points' messages, and the execution log — the instructions executed up
+//! to the current position, newest last, each with its position, line, explanation and the
+//! locations it wrote. Click an entry to go there; filter by line or by location written;
+//! export what is shown as CSV.
+//!
+//! The log is recomputed from the timeline (a bounded replay) only when the position, the
+//! history or the filter changed, and only while the panel is shown.
+
+use egui::RichText;
+
+use super::Command;
+use super::theme::palette;
+use crate::debugger::Debugger;
+use crate::debugger::log::{ExecutionLog, LogFilter};
+use crate::machine::Pos;
+
+/// Entries shown at most.
+pub const MAX_ROWS: usize = 500;
+/// Ticks searched back at most for a filter that matches rarely (bounded work per refresh).
+pub const MAX_SEARCH_TICKS: u64 = 2_000_000;
+
+const FILTERS: [&str; 3] = ["every instruction", "line", "writes to"];
+
+#[derive(Default)]
+pub struct LogView {
+    /// 0 all, 1 line, 2 writes to a location.
+    pub filter_kind: usize,
+    pub filter_text: String,
+    pub log: ExecutionLog,
+    pub filter_error: Option<String>,
+    /// What the shown log was computed for.
+    key: Option<(Pos, Pos, usize, LogFilter, String)>,
+    /// Scroll to the newest entry on the next draw.
+    scroll_to_end: bool,
+}
+
+impl LogView {
+    fn filter(&mut self, debugger: &Debugger) -> LogFilter {
+        let text = self.filter_text.trim();
+        self.filter_error = None;
+        match self.filter_kind {
+            1 => match text.parse::<usize>() {
+                Ok(line) => LogFilter::Line(line),
+                Err(_) => {
+                    if !text.is_empty() {
+                        self.filter_error = Some(format!("'{text}' is not a line number"));
+                    }
+                    LogFilter::All
+                }
+            },
+            2 => match debugger.find(text) {
+                Some(loc) => LogFilter::Writes(loc),
+                None => {
+                    if !text.is_empty() {
+                        self.filter_error = Some(format!("there is no location named '{text}'"));
+                    }
+                    LogFilter::All
+                }
+            },
+            _ => LogFilter::All,
+        }
+    }
+
+    /// Recompute the log if anything it depends on changed.
+    pub fn refresh(&mut self, debugger: &mut Debugger) {
+        if debugger.has_errors() || debugger.is_edited() || debugger.is_running() {
+            return;
+        }
+        let filter = self.filter(debugger);
+        let key = (
+            debugger.pos(),
+            debugger.furthest(),
+            debugger.events().len(),
+            filter,
+            debugger.source().to_string(),
+        );
+        if self.key.as_ref() == Some(&key) {
+            return;
+        }
+        self.log = debugger.execution_log(filter, MAX_ROWS, MAX_SEARCH_TICKS);
+        self.key = Some(key);
+        self.scroll_to_end = true;
+    }
+
+    /// The shown entries as CSV: position, line, explanation, written locations.
+    pub fn write_csv(&self, w: &mut dyn std::io::Write) -> std::io::Result<()> {
+        writeln!(w, "tick,step,instruction,line,explanation,written")?;
+        for r in &self.log.rows {
+            let written: Vec<String> = r.written.iter().map(|(n, v)| format!("{n}={v}")).collect();
+            writeln!(
+                w,
+                "{},{},{},{},{},{}",
+                r.at.tick,
+                r.at.step,
+                r.step,
+                r.line,
+                csv_field(&r.explanation),
+                csv_field(&written.join(" "))
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// A CSV field, quoted when it needs to be.
+fn csv_field(text: &str) -> String {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_string()
+    }
+}
+
+pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut LogView, out: &mut Vec<Command>) {
+    let p = palette(ui.visuals().dark_mode);
+    let tick = debugger.dialect().vocabulary.tick;
+    let messages = debugger.log_messages();
+    if !messages.is_empty() {
+        egui::CollapsingHeader::new(format!("Log point messages ({})", messages.len()))
+            .id_salt("log_messages")
+            .default_open(true)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical()
+                    .id_salt("log_messages_scroll")
+                    .max_height(100.0)
+                    .stick_to_bottom(true)
+                    .show(ui, |ui| {
+                        for m in messages.iter().rev().take(MAX_ROWS).rev() {
+                            let text = format!("{tick} {} · line {}: {}", m.at, m.line, m.text);
+                            if ui
+                                .add(
+                                    egui::Label::new(RichText::new(text).monospace())
+                                        .sense(egui::Sense::click()),
+                                )
+                                .on_hover_text("Go there")
+                                .clicked()
+                            {
+                                out.push(Command::GoTo(m.at));
+                            }
+                        }
+                    });
+            });
+        ui.separator();
+    }
+    drop(messages);
+    ui.horizontal_wrapped(|ui| {
+        ui.label("Show");
+        egui::ComboBox::new("log_filter", "")
+            .selected_text(FILTERS[view.filter_kind.min(2)])
+            .show_ui(ui, |ui| {
+                for (k, f) in FILTERS.iter().enumerate() {
+                    ui.selectable_value(&mut view.filter_kind, k, *f);
+                }
+            })
+            .response
+            .widget_info(|| egui::WidgetInfo::labeled(egui::Role::ComboBox, true, "Log shows"));
+        if view.filter_kind > 0 {
+            ui.add(
+                egui::TextEdit::singleline(&mut view.filter_text)
+                    .hint_text(if view.filter_kind == 1 { "7" } else { "R4" })
+                    .desired_width(70.0),
+            )
+            .widget_info(|| egui::WidgetInfo::labeled(egui::Role::TextInput, true, "Log filter"));
+        }
+        if ui.button("Export CSV…").clicked() {
+            out.push(Command::ExportLogDialog);
+        }
+    });
+    if let Some(e) = &view.filter_error {
+        ui.colored_label(p.error, e);
+    }
+    if debugger.is_running() {
+        ui.label(RichText::new("Running: the log shows when the run stops.").color(p.dim));
+        return;
+    }
+    let log = &view.log;
+    if log.rows.is_empty() {
+        ui.label(RichText::new("Nothing executed before here matches.").color(p.dim));
+    } else if !log.complete && log.rows.len() < MAX_ROWS {
+        ui.label(
+            RichText::new(format!("Searched back to {tick} {}.", log.searched_from))
+                .small()
+                .color(p.dim),
+        );
+    }
+    let row_height = ui.text_style_height(&egui::TextStyle::Monospace) + 2.0;
+    let mut area = egui::ScrollArea::both()
+        .id_salt("execution_log")
+        .auto_shrink([false, false]);
+    if std::mem::take(&mut view.scroll_to_end) {
+        area = area.vertical_scroll_offset(row_height * log.rows.len() as f32);
+    }
+    area.show_rows(ui, row_height, log.rows.len(), |ui, range| {
+        for r in &log.rows[range] {
+            let written: Vec<String> = r.written.iter().map(|(n, v)| format!("{n}={v}")).collect();
+            let text = format!(
+                "{:>9}  {:>4}  {}{}",
+                r.at.to_string(),
+                r.line,
+                r.explanation,
+                if written.is_empty() {
+                    String::new()
+                } else {
+                    format!("   -> {}", written.join(" "))
+                }
+            );
+            let here = r.at == debugger.pos();
+            let label = egui::Label::new(RichText::new(text).monospace().color(if here {
+                p.written
+            } else {
+                ui.visuals().text_color()
+            }))
+            .wrap_mode(egui::TextWrapMode::Extend)
+            .sense(egui::Sense::click());
+            if ui
+                .add(label)
+                .on_hover_text(format!("Go to {tick} {} (after it ran)", r.at))
+                .clicked()
+            {
+                out.push(Command::GoTo(r.at));
+            }
+        }
+    });
+}

@@ -1,0 +1,130 @@
+//! The Watches panel: expressions in the condition language, each in a format of its own,
+//! evaluated at the current position; any of them can join the plot as a channel.
+
+use egui::RichText;
+
+use super::Command;
+use super::theme::palette;
+use crate::debugger::{Debugger, Watch};
+use crate::machine::Format;
+
+#[derive(Default)]
+pub struct WatchesView {
+    pub new_expr: String,
+}
+
+/// A watch's value in `format`: 32 bits wide when it fits, else 64.
+pub fn shown(v: i64, format: Format) -> String {
+    let width = if i32::try_from(v).is_ok() || u32::try_from(v).is_ok() {
+        32
+    } else {
+        64
+    };
+    let raw = if width == 32 {
+        u64::from(v as u32)
+    } else {
+        v as u64
+    };
+    match format {
+        Format::Signed => v.to_string(),
+        f => f.show(raw, width),
+    }
+}
+
+pub fn show(
+    ui: &mut egui::Ui,
+    debugger: &Debugger,
+    view: &mut WatchesView,
+    out: &mut Vec<Command>,
+) {
+    let p = palette(ui.visuals().dark_mode);
+    ui.horizontal(|ui| {
+        let field = ui.add(
+            egui::TextEdit::singleline(&mut view.new_expr)
+                .hint_text("R4 + R5, PSW.12, TPOS - APOS")
+                .desired_width(ui.available_width() - 60.0),
+        );
+        field.widget_info(|| egui::WidgetInfo::labeled(egui::Role::TextInput, true, "New watch"));
+        let entered = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+        if (ui.button("Add").clicked() || entered) && !view.new_expr.trim().is_empty() {
+            out.push(Command::AddWatch(std::mem::take(&mut view.new_expr)));
+        }
+    });
+    ui.separator();
+    if debugger.watches().is_empty() {
+        ui.label(RichText::new("No watches: type an expression above.").color(p.dim));
+        return;
+    }
+    egui::ScrollArea::vertical()
+        .id_salt("watch_list")
+        .auto_shrink([false, false])
+        .show(ui, |ui| {
+            egui::Grid::new("watches")
+                .num_columns(4)
+                .striped(true)
+                .show(ui, |ui| {
+                    for (i, w) in debugger.watches().iter().enumerate() {
+                        watch_row(ui, debugger, i, w, out);
+                        ui.end_row();
+                    }
+                });
+        });
+}
+
+fn watch_row(ui: &mut egui::Ui, debugger: &Debugger, i: usize, w: &Watch, out: &mut Vec<Command>) {
+    let p = palette(ui.visuals().dark_mode);
+    let n = i + 1;
+    let mut edited = w.clone();
+    ui.add(egui::TextEdit::singleline(&mut edited.expr).desired_width(140.0))
+        .widget_info(|| {
+            egui::WidgetInfo::labeled(egui::Role::TextInput, true, format!("Watch {n}"))
+        });
+    egui::ComboBox::new(("watch_format", i), "")
+        .selected_text(w.format.name())
+        .show_ui(ui, |ui| {
+            for f in Format::ALL {
+                ui.selectable_value(&mut edited.format, f, f.name());
+            }
+        })
+        .response
+        .widget_info(|| {
+            egui::WidgetInfo::labeled(egui::Role::ComboBox, true, format!("Format of watch {n}"))
+        });
+    match debugger.watch_value(i) {
+        Ok(v) => {
+            let text = shown(v, w.format);
+            ui.label(RichText::new(&text).monospace()).widget_info(|| {
+                egui::WidgetInfo::labeled(
+                    egui::Role::Label,
+                    true,
+                    format!("Value of watch {n}: {text}"),
+                )
+            });
+        }
+        Err(e) => {
+            ui.colored_label(p.error, e.to_string());
+        }
+    }
+    ui.horizontal(|ui| {
+        let plotted = debugger.channels().iter().any(|c| c.name == w.expr);
+        let plot = ui
+            .add_enabled(!plotted, egui::Button::new("Plot").small())
+            .on_hover_text("Add it to the plot as a channel");
+        plot.widget_info(|| {
+            egui::WidgetInfo::labeled(egui::Role::Button, !plotted, format!("Plot watch {n}"))
+        });
+        if plot.clicked() {
+            out.push(Command::PlotWatch(i));
+        }
+        let delete = ui.small_button("×");
+        delete.widget_info(|| {
+            egui::WidgetInfo::labeled(egui::Role::Button, true, format!("Delete watch {n}"))
+        });
+        if delete.clicked() {
+            out.push(Command::RemoveWatch(i));
+        }
+    });
+    if edited != *w {
+        out.push(Command::UpdateWatch(i, edited));
+    }
+}
