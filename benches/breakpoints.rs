@@ -14,16 +14,9 @@ use servoscope::machine::{Pos, registry};
 
 const COMMANDS: u64 = 1_000_000;
 
-const ARITHMETIC: &str = "\
-loop: CLD ADD, 20, 20, 3
-      CLX MULT_S, 21, 20, 22
-      CLC ADD, 21
-      CLD MULT_S64_SHR16, 23, 21, q16(1.5)
-      CLX XOR, 24, 23, 20
-      CLC INC, 25
-      CLD AND, 26, 25, 0x7FFFFFFF
-      JMP loop, !NEGATIVE
-";
+#[path = "common/programs.rs"]
+mod programs;
+use programs::ARITHMETIC;
 
 fn benches(c: &mut Criterion) {
     let dialect = registry::by_name("silverlode").expect("SilverLode is registered");

@@ -7,19 +7,12 @@ use servoscope::debugger::log::LogFilter;
 use servoscope::debugger::{
     BreakError, BreakKind, Breakpoint, DataTrigger, Debugger, Event, Speed,
 };
-use servoscope::machine::{Format, Loc, Pos, registry, value_of};
+use servoscope::machine::{Format, Pos, registry, value_of};
 use servoscope::session::{Session, ViewSettings};
 
-const LOOP: &str = "\
-WRP 13, 5
-WRP 11, 10
-loop: CLC INC, 12
-WRP 13, 5
-CLC DEC, 11
-JMP loop, !ZERO
-WRP 13, 7
-END
-";
+mod common;
+
+const LOOP: &str = common::ROUNDS;
 
 fn debugger(dialect: &str, source: &str) -> Debugger {
     let dialect = registry::by_name(dialect).expect("a registered dialect");
@@ -497,10 +490,7 @@ fn breakpoints_follow_edits_and_data_ones_survive_them() {
         d.breakpoint_list()[1].kind,
         BreakKind::Data { .. }
     ));
-    let _ = Loc::new(0, 0);
 }
-
-mod common;
 
 #[test]
 fn the_runner_traces_every_step() {
@@ -584,7 +574,11 @@ END
     assert!(d.pos().tick > 80_000);
     let (r20, r21) = (d.find("R20").expect("R20"), d.find("R21").expect("R21"));
     assert!(d.who_wrote(r20).is_some());
-    assert_eq!(d.machine().last_line(), Some(1), "back to the very first command");
+    assert_eq!(
+        d.machine().last_line(),
+        Some(1),
+        "back to the very first command"
+    );
     run_to_stop(&mut d);
     assert!(d.who_wrote(r21).is_some());
     assert_eq!(d.machine().last_line(), Some(3));

@@ -7,20 +7,13 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use servoscope::debugger::{BreakKind, Breakpoint, DataTrigger, Event, Speed};
 use servoscope::machine::silverlode::view::reg;
-use servoscope::machine::{MachineView, value_of};
+use servoscope::machine::value_of;
 use servoscope::ui::layout::Pane;
 use servoscope::ui::{Command, Prefs, ServoscopeApp};
 
-const LOOP: &str = "\
-WRP 13, 5
-WRP 11, 10
-loop: CLC INC, 12
-WRP 13, 5
-CLC DEC, 11
-JMP loop, !ZERO
-WRP 13, 7
-END
-";
+mod common;
+
+const LOOP: &str = common::ROUNDS;
 
 fn harness(source: &str) -> Harness<'static, ServoscopeApp> {
     let mut app = ServoscopeApp::new(Prefs::default());

@@ -117,55 +117,54 @@ fn row(ui: &mut egui::Ui, debugger: &Debugger, i: usize, b: &Breakpoint, out: &m
             out.push(Command::RemoveBreakpoint(i));
         }
     });
-    egui::Grid::new(("breakpoint_fields", i))
-        .num_columns(2)
-        .show(ui, |ui| {
-            ui.label("if");
-            ui.add(
-                egui::TextEdit::singleline(&mut edited.condition)
-                    .hint_text("always, or e.g. R4 > 1000 && IO3")
-                    .desired_width(f32::INFINITY),
-            )
+    ui.horizontal(|ui| {
+        ui.label("if");
+        let room = (ui.available_width() - 120.0).max(80.0);
+        text_field(
+            ui,
+            &mut edited.condition,
+            "always, or e.g. R4 > 1000 && IO3",
+            format!("Condition of breakpoint {n}"),
+            room,
+        );
+        ui.label("from hit");
+        ui.add(egui::DragValue::new(&mut edited.hit_count).range(0..=u64::MAX))
+            .on_hover_text("Let the first N - 1 hits pass (0 or 1: stop on every hit)")
             .widget_info(|| {
                 egui::WidgetInfo::labeled(
-                    egui::Role::TextInput,
+                    egui::Role::SpinButton,
                     true,
-                    format!("Condition of breakpoint {n}"),
+                    format!("Hit count of breakpoint {n}"),
                 )
             });
-            ui.end_row();
-            ui.label("from hit");
-            ui.add(egui::DragValue::new(&mut edited.hit_count).range(0..=u64::MAX))
-                .on_hover_text("Let the first N - 1 hits pass (0 or 1: stop on every hit)")
-                .widget_info(|| {
-                    egui::WidgetInfo::labeled(
-                        egui::Role::SpinButton,
-                        true,
-                        format!("Hit count of breakpoint {n}"),
-                    )
-                });
-            ui.end_row();
-            ui.label("log");
-            ui.add(
-                egui::TextEdit::singleline(&mut edited.log)
-                    .hint_text("stop here, or log e.g. R4 = {R4}")
-                    .desired_width(f32::INFINITY),
-            )
-            .widget_info(|| {
-                egui::WidgetInfo::labeled(
-                    egui::Role::TextInput,
-                    true,
-                    format!("Log message of breakpoint {n}"),
-                )
-            });
-            ui.end_row();
-        });
+    });
+    ui.horizontal(|ui| {
+        ui.label("log");
+        let room = ui.available_width();
+        text_field(
+            ui,
+            &mut edited.log,
+            "stop here, or log e.g. R4 = {R4}",
+            format!("Log message of breakpoint {n}"),
+            room,
+        );
+    });
     if let Some(e) = debugger.breakpoint_error(i) {
         ui.colored_label(p.error, format!("Inactive: {e}"));
     }
     if edited != *b {
         out.push(Command::UpdateBreakpoint(i, edited));
     }
+}
+
+/// A one-line field `width` wide, named `name` for screen readers and tests.
+fn text_field(ui: &mut egui::Ui, text: &mut String, hint: &str, name: String, width: f32) {
+    ui.add(
+        egui::TextEdit::singleline(text)
+            .hint_text(hint)
+            .desired_width(width),
+    )
+    .widget_info(|| egui::WidgetInfo::labeled(egui::Role::TextInput, true, &name));
 }
 
 fn data_form(

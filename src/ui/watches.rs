@@ -75,10 +75,12 @@ fn watch_row(ui: &mut egui::Ui, debugger: &Debugger, i: usize, w: &Watch, out: &
     let p = palette(ui.visuals().dark_mode);
     let n = i + 1;
     let mut edited = w.clone();
-    ui.add(egui::TextEdit::singleline(&mut edited.expr).desired_width(140.0))
-        .widget_info(|| {
-            egui::WidgetInfo::labeled(egui::Role::TextInput, true, format!("Watch {n}"))
-        });
+    ui.add(
+        egui::TextEdit::singleline(&mut edited.expr)
+            .desired_width(150.0)
+            .min_size(egui::vec2(150.0, 0.0)),
+    )
+    .widget_info(|| egui::WidgetInfo::labeled(egui::Role::TextInput, true, format!("Watch {n}")));
     egui::ComboBox::new(("watch_format", i), "")
         .selected_text(w.format.name())
         .show_ui(ui, |ui| {

@@ -9,6 +9,19 @@ use std::process::{Command, Output};
 use servoscope::machine::silverlode::SilverLode;
 use servoscope::machine::{Machine, MachineView, RunState};
 
+/// A SilverLode loop for the debugger's tests: R13 is written with the same value every
+/// round and changed once at the end; R12 counts the rounds, R11 counts down from 10.
+pub const ROUNDS: &str = "\
+WRP 13, 5
+WRP 11, 10
+loop: CLC INC, 12
+WRP 13, 5
+CLC DEC, 11
+JMP loop, !ZERO
+WRP 13, 7
+END
+";
+
 /// Assemble `source` into a SilverLode machine with the default servo model.
 pub fn load(source: &str) -> Result<SilverLode, Vec<servoscope::machine::Diagnostic>> {
     servoscope::machine::silverlode::dialect::machine(source, &Default::default())
