@@ -12,7 +12,7 @@
 //!   headless runner share, so a run and a session always agree.
 
 use super::trace::{Channel, Trace};
-use crate::machine::{Loc, Machine, MachineView, Pos, StopReason, WriteError};
+use crate::machine::{Loc, Machine, MachineView, Pos, StopReason, WriteError, WriteSet};
 
 pub const CHECKPOINT_EVERY: u64 = 16_384;
 
@@ -201,13 +201,20 @@ impl<M: Machine> Timeline<M> {
         let mut values = [0i64; super::trace::MAX_CHANNELS];
         let n = channels.len();
         // Writes are noted only where history is new (a re-run noted them the first time).
+        // The run loop asks `stop` at every boundary; the observer only says when a checkpoint
+        // began a new stretch, so the set stays in a local until then.
         let known = *furthest;
-        let pending = std::cell::Cell::new(WriteSet::default());
-        let note = |m: &M| {
+        let new_stretch = std::cell::Cell::new(false);
+        let mut set = WriteSet::default();
+        let mut note = |m: &M, set: &mut WriteSet| {
+            if new_stretch.replace(false) {
+                if let Some(last) = written.last_mut() {
+                    last.union(std::mem::take(set));
+                }
+                written.push(WriteSet::default());
+            }
             if m.pos() > known {
-                let mut set = pending.get();
-                m.for_each_written(&mut |loc| set.insert(loc));
-                pending.set(set);
+                m.note_writes(set);
             }
         };
         let reason = replay(
@@ -216,7 +223,7 @@ impl<M: Machine> Timeline<M> {
             next_event,
             limit,
             |m| {
-                note(m);
+                note(m, &mut set);
                 stop(m)
             },
             |m, why| {
@@ -229,17 +236,14 @@ impl<M: Machine> Timeline<M> {
                     && checkpoints.last().is_none_or(|c| c.ticks() < t)
                 {
                     checkpoints.push(m.clone());
-                    if let Some(last) = written.last_mut() {
-                        last.union(pending.take());
-                    }
-                    written.push(WriteSet::default());
+                    new_stretch.set(true);
                 }
             },
         );
         // The last boundary is not asked by the run loop.
-        note(machine);
+        note(machine, &mut set);
         if let Some(last) = written.last_mut() {
-            last.union(pending.take());
+            last.union(set);
         }
         *furthest = (*furthest).max(machine.pos());
         reason
@@ -428,35 +432,5 @@ impl<M: Machine> Timeline<M> {
 fn sample<M: MachineView>(m: &M, channels: &[Channel], out: &mut [i64]) {
     for (slot, c) in out.iter_mut().zip(channels) {
         *slot = c.sample(m);
-    }
-}
-
-/// A 256-bit Bloom set of locations.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct WriteSet([u64; 4]);
-
-impl WriteSet {
-    /// Exact for indexes below 256 in one space; spaces and larger indexes share bits.
-    #[inline]
-    fn bit(loc: Loc) -> (usize, u64) {
-        let b = (loc.index ^ u32::from(loc.space).wrapping_mul(0x9E37_79B9)) as usize & 255;
-        (b >> 6, 1 << (b & 63))
-    }
-
-    #[inline]
-    pub fn insert(&mut self, loc: Loc) {
-        let (word, bit) = WriteSet::bit(loc);
-        self.0[word] |= bit;
-    }
-
-    pub fn may_hold(&self, loc: Loc) -> bool {
-        let (word, bit) = WriteSet::bit(loc);
-        self.0[word] & bit != 0
-    }
-
-    fn union(&mut self, other: WriteSet) {
-        for (a, b) in self.0.iter_mut().zip(other.0) {
-            *a |= b;
-        }
     }
 }

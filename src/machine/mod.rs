@@ -284,6 +284,11 @@ pub trait MachineView: Send + 'static {
     /// description of writes, asked at every instruction boundary while recording, so it
     /// builds no list.
     fn for_each_written(&self, f: &mut dyn FnMut(Loc));
+    /// Add the locations the last executed instruction wrote to `set` (asked at every new
+    /// boundary while the timeline records: dialects answer without a closure per location).
+    fn note_writes(&self, set: &mut WriteSet) {
+        self.for_each_written(&mut |loc| set.insert(loc));
+    }
     /// Whether the last executed instruction wrote `loc` (data breakpoints and "who wrote
     /// this?").
     fn wrote(&self, loc: Loc) -> bool {
@@ -458,5 +463,35 @@ pub trait Machine: MachineView + Clone + PartialEq {
         let start = self.pos();
         let limit = Pos::at_tick(start.tick.saturating_add(max_ticks));
         self.run_observed(limit, |m| m.pos() > start, |_| {})
+    }
+}
+
+/// A 256-bit Bloom set of locations.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WriteSet([u64; 4]);
+
+impl WriteSet {
+    /// Exact for indexes below 256 in one space; spaces and larger indexes share bits.
+    #[inline]
+    fn bit(loc: Loc) -> (usize, u64) {
+        let b = (loc.index ^ u32::from(loc.space).wrapping_mul(0x9E37_79B9)) as usize & 255;
+        (b >> 6, 1 << (b & 63))
+    }
+
+    #[inline]
+    pub fn insert(&mut self, loc: Loc) {
+        let (word, bit) = WriteSet::bit(loc);
+        self.0[word] |= bit;
+    }
+
+    pub fn may_hold(&self, loc: Loc) -> bool {
+        let (word, bit) = WriteSet::bit(loc);
+        self.0[word] & bit != 0
+    }
+
+    pub fn union(&mut self, other: WriteSet) {
+        for (a, b) in self.0.iter_mut().zip(other.0) {
+            *a |= b;
+        }
     }
 }

@@ -75,6 +75,36 @@ pub fn parse_name(name: &str) -> Option<Loc> {
     }
 }
 
+impl Dl205 {
+    /// Each location the last executed instruction wrote (one may come twice).
+    #[inline]
+    fn each_written<F: FnMut(Loc)>(&self, mut f: F) {
+        use super::program::Op;
+        let Some(ins) = self.last.and_then(|i| self.program.instrs.get(i as usize)) else {
+            return;
+        };
+        if self.acc != self.before.0 || self.moved != super::StackMove::None {
+            f(Loc::new(ACC, 0));
+            (1..=LEVELS as u32).for_each(|i| f(Loc::new(ACC, i)));
+        }
+        match ins.op {
+            Op::OutV(a) | Op::IncB(a) | Op::DecB(a) if self.last_ran => f(Loc::new(V, a)),
+            Op::OutD(a) if self.last_ran => {
+                f(Loc::new(V, a));
+                f(Loc::new(V, a + 1));
+            }
+            Op::Coil(b) => f(bit_loc(b)),
+            Op::Set(a, b) | Op::Rst(a, b) if self.last_ran => {
+                (a.n..=b.n).for_each(|n| f(Loc::new(kind_space(a.kind), n)));
+            }
+            Op::OutF(e, n) if self.last_ran => {
+                (e.n..e.n + u32::from(n)).for_each(|i| f(Loc::new(kind_space(e.kind), i)));
+            }
+            _ => {}
+        }
+    }
+}
+
 impl MachineView for Dl205 {
     fn dialect(&self) -> &'static str {
         "dl205"
@@ -213,29 +243,10 @@ impl MachineView for Dl205 {
         self.steps
     }
     fn for_each_written(&self, f: &mut dyn FnMut(Loc)) {
-        use super::program::Op;
-        let Some(ins) = self.last.and_then(|i| self.program.instrs.get(i as usize)) else {
-            return;
-        };
-        if self.acc != self.before.0 || self.moved != super::StackMove::None {
-            f(Loc::new(ACC, 0));
-            (1..=LEVELS as u32).for_each(|i| f(Loc::new(ACC, i)));
-        }
-        match ins.op {
-            Op::OutV(a) | Op::IncB(a) | Op::DecB(a) if self.last_ran => f(Loc::new(V, a)),
-            Op::OutD(a) if self.last_ran => {
-                f(Loc::new(V, a));
-                f(Loc::new(V, a + 1));
-            }
-            Op::Coil(b) => f(bit_loc(b)),
-            Op::Set(a, b) | Op::Rst(a, b) if self.last_ran => {
-                (a.n..=b.n).for_each(|n| f(Loc::new(kind_space(a.kind), n)));
-            }
-            Op::OutF(e, n) if self.last_ran => {
-                (e.n..e.n + u32::from(n)).for_each(|i| f(Loc::new(kind_space(e.kind), i)));
-            }
-            _ => {}
-        }
+        self.each_written(f);
+    }
+    fn note_writes(&self, set: &mut crate::machine::WriteSet) {
+        self.each_written(|loc| set.insert(loc));
     }
     fn line_power(&self) -> Vec<(usize, crate::machine::LinePower)> {
         use crate::machine::LinePower;

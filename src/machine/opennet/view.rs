@@ -73,6 +73,56 @@ pub fn parse_name(name: &str) -> Option<Loc> {
     }
 }
 
+impl OpenNet {
+    /// Each location the last executed instruction wrote (one may come twice).
+    #[inline]
+    fn each_written<F: FnMut(Loc)>(&self, mut f: F) {
+        use super::program::{Op, Word};
+        let Some(instr) = self.last.and_then(|i| self.program.instrs.get(i as usize)) else {
+            return;
+        };
+        let words = |w: &Word, block: u32, offset: u32, f: &mut dyn FnMut(Loc)| match *w {
+            Word::Reg { n, .. } => {
+                (n + offset..n + offset + block).for_each(|r| f(Loc::new(D, r)));
+            }
+            Word::Bits { area, index, .. } => {
+                let start = index + offset * 16;
+                (start..start + block * 16).for_each(|b| f(Loc::new(area_space(area), b)));
+            }
+            Word::Const(_) => {}
+        };
+        match instr.op {
+            Op::Out(b, _) | Op::Set(b) | Op::Rst(b) => match b {
+                super::program::Bit::Point(area, i) => f(Loc::new(area_space(area), i)),
+                super::program::Bit::Special(s) => f(Loc::new(SPECIAL_SPACE, u32::from(s))),
+            },
+            Op::Mov { ty, dst, .. } if self.last_acted => {
+                for c in &self.last_cycles {
+                    words(&dst, ty.words(), c.dst_at, &mut f);
+                }
+            }
+            Op::Arith { op, ty, dst, .. } if self.last_acted => {
+                let block = match op {
+                    super::program::Arith::Add | super::program::Arith::Sub => ty.words(),
+                    super::program::Arith::Mul => 2,
+                    super::program::Arith::Div => 2 * ty.words(),
+                };
+                for c in self.last_cycles.iter().filter(|c| c.error.is_none()) {
+                    words(&dst, block, c.dst_at, &mut f);
+                }
+                f(Loc::new(SPECIAL_SPACE, 0));
+                if self.last_cycles.iter().any(|c| c.error.is_some()) {
+                    f(Loc::new(SPECIAL_SPACE, M8004 as u32));
+                }
+            }
+            Op::Step { ty, reg, .. } if self.last_acted => {
+                (reg..reg + ty.words()).for_each(|r| f(Loc::new(D, r)));
+            }
+            _ => {}
+        }
+    }
+}
+
 impl MachineView for OpenNet {
     fn dialect(&self) -> &'static str {
         "opennet"
@@ -205,49 +255,10 @@ impl MachineView for OpenNet {
         self.steps
     }
     fn for_each_written(&self, f: &mut dyn FnMut(Loc)) {
-        use super::program::{Op, Word};
-        let Some(instr) = self.last.and_then(|i| self.program.instrs.get(i as usize)) else {
-            return;
-        };
-        let words = |w: &Word, block: u32, offset: u32, f: &mut dyn FnMut(Loc)| match *w {
-            Word::Reg { n, .. } => {
-                (n + offset..n + offset + block).for_each(|r| f(Loc::new(D, r)));
-            }
-            Word::Bits { area, index, .. } => {
-                let start = index + offset * 16;
-                (start..start + block * 16).for_each(|b| f(Loc::new(area_space(area), b)));
-            }
-            Word::Const(_) => {}
-        };
-        match instr.op {
-            Op::Out(b, _) | Op::Set(b) | Op::Rst(b) => match b {
-                super::program::Bit::Point(area, i) => f(Loc::new(area_space(area), i)),
-                super::program::Bit::Special(s) => f(Loc::new(SPECIAL_SPACE, u32::from(s))),
-            },
-            Op::Mov { ty, dst, .. } if self.last_acted => {
-                for c in &self.last_cycles {
-                    words(&dst, ty.words(), c.dst_at, f);
-                }
-            }
-            Op::Arith { op, ty, dst, .. } if self.last_acted => {
-                let block = match op {
-                    super::program::Arith::Add | super::program::Arith::Sub => ty.words(),
-                    super::program::Arith::Mul => 2,
-                    super::program::Arith::Div => 2 * ty.words(),
-                };
-                for c in self.last_cycles.iter().filter(|c| c.error.is_none()) {
-                    words(&dst, block, c.dst_at, f);
-                }
-                f(Loc::new(SPECIAL_SPACE, 0));
-                if self.last_cycles.iter().any(|c| c.error.is_some()) {
-                    f(Loc::new(SPECIAL_SPACE, M8004 as u32));
-                }
-            }
-            Op::Step { ty, reg, .. } if self.last_acted => {
-                (reg..reg + ty.words()).for_each(|r| f(Loc::new(D, r)));
-            }
-            _ => {}
-        }
+        self.each_written(f);
+    }
+    fn note_writes(&self, set: &mut crate::machine::WriteSet) {
+        self.each_written(|loc| set.insert(loc));
     }
     fn explain_last(&self) -> Option<String> {
         super::explain::explain(self)

@@ -169,14 +169,15 @@ impl SilverLode {
     /// Registers the last command wrote, derived from the command and its record.
     pub fn written_by_last(&self) -> Vec<usize> {
         let mut out = Vec::new();
-        self.each_written_register(&mut |r| out.push(r));
+        self.each_written_register(|r| out.push(r));
         out.sort_unstable();
         out.dedup();
         out
     }
 
     /// [`SilverLode::written_by_last`] without a list (a register may come twice).
-    fn each_written_register(&self, f: &mut dyn FnMut(usize)) {
+    #[inline]
+    fn each_written_register<F: FnMut(usize)>(&self, mut f: F) {
         let last = self.s.last;
         if last.outcome != Outcome::Done {
             return;
@@ -198,32 +199,32 @@ impl SilverLode {
                 | ClcOp::CopyWordHiReg
                 | ClcOp::CopyWordLoReg => f(reg as usize),
                 ClcOp::SaveRef => f(last.vals[1] as usize),
-                ClcOp::SubTarget => [0, 1, 6].into_iter().for_each(&mut *f),
+                ClcOp::SubTarget => [0, 1, 6].into_iter().for_each(&mut f),
                 _ => f(10),
             },
             Instr::Cld { op, res, reg1, .. } | Instr::Clx { op, res, reg1, .. } => {
                 let (res, base) = (res as usize, reg1 as usize);
                 match op {
-                    ExtOp::MultU64 => [res, res + 1].into_iter().for_each(&mut *f),
-                    ExtOp::QInit => [base, base + 1, res].into_iter().for_each(&mut *f),
+                    ExtOp::MultU64 => [res, res + 1].into_iter().for_each(&mut f),
+                    ExtOp::QInit => [base, base + 1, res].into_iter().for_each(&mut f),
                     ExtOp::QRead => f(res),
                     ExtOp::QPushHead | ExtOp::QPushHeadErr => {
                         let head = RawQueue::from_words(last.vals[0], last.vals[1]).head as usize;
-                        [base + 2 + head, base, base + 1, res].into_iter().for_each(&mut *f);
+                        [base + 2 + head, base, base + 1, res].into_iter().for_each(&mut f);
                     }
                     ExtOp::QPushTail | ExtOp::QPushTailErr => {
                         let q = RawQueue::decode(&self.s.regs, base);
                         if let Some(q) = q {
                             f(base + 2 + q.tail as usize);
                         }
-                        [base, base + 1, res].into_iter().for_each(&mut *f);
+                        [base, base + 1, res].into_iter().for_each(&mut f);
                     }
-                    _ if op.is_queue() => [base, base + 1, res].into_iter().for_each(&mut *f),
+                    _ if op.is_queue() => [base, base + 1, res].into_iter().for_each(&mut f),
                     _ => f(res),
                 }
             }
             Instr::Wrp { reg, .. } => f(reg as usize),
-            Instr::Ztp => [0, 1, 6].into_iter().for_each(&mut *f),
+            Instr::Ztp => [0, 1, 6].into_iter().for_each(&mut f),
             Instr::Ttp => f(0),
             _ => {}
         }
@@ -402,7 +403,10 @@ impl MachineView for SilverLode {
             .collect()
     }
     fn for_each_written(&self, f: &mut dyn FnMut(Loc)) {
-        self.each_written_register(&mut |r| f(reg(r as u32)));
+        self.each_written_register(|r| f(reg(r as u32)));
+    }
+    fn note_writes(&self, set: &mut crate::machine::WriteSet) {
+        self.each_written_register(|r| set.insert(reg(r as u32)));
     }
     fn explain_last(&self) -> Option<String> {
         super::explain::explain(self)

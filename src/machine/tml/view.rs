@@ -152,6 +152,39 @@ impl Tml {
     }
 }
 
+impl Tml {
+    /// Each location the last executed instruction wrote (one may come twice).
+    #[inline]
+    fn each_written<F: FnMut(Loc)>(&self, mut f: F) {
+        if let Some(stmt) = self.last.and_then(|i| self.program.stmts.get(i as usize)) {
+            match stmt.op {
+                Op::Assign(dst, _)
+                | Op::Negate(dst, _)
+                | Op::AssignShift { dst, .. }
+                | Op::Add { dst, .. }
+                | Op::Divide(dst, _)
+                | Op::Shift { dst, .. }
+                | Op::Srb { dst, .. } => f(operand_loc(&dst)),
+                Op::Multiply { .. } | Op::ShiftProduct { .. } => {
+                    [Loc::new(DATA, PREG_INDEX), data_loc(d::PROD), data_loc(d::PRODH)]
+                        .into_iter()
+                        .for_each(&mut f);
+                }
+                Op::Sap(_) => [data_loc(d::APOS), data_loc(d::TPOS)]
+                    .into_iter()
+                    .for_each(&mut f),
+                _ => {}
+            }
+        }
+        if self.profile.active || self.data[d::ASPD as usize] != 0 {
+            [d::TPOS, d::TSPD, d::APOS, d::ASPD, d::POSERR]
+                .into_iter()
+                .map(data_loc)
+                .for_each(f);
+        }
+    }
+}
+
 impl MachineView for Tml {
     fn dialect(&self) -> &'static str {
         "tml"
@@ -339,32 +372,10 @@ impl MachineView for Tml {
         self.steps
     }
     fn for_each_written(&self, f: &mut dyn FnMut(Loc)) {
-        if let Some(stmt) = self.last.and_then(|i| self.program.stmts.get(i as usize)) {
-            match stmt.op {
-                Op::Assign(dst, _)
-                | Op::Negate(dst, _)
-                | Op::AssignShift { dst, .. }
-                | Op::Add { dst, .. }
-                | Op::Divide(dst, _)
-                | Op::Shift { dst, .. }
-                | Op::Srb { dst, .. } => f(operand_loc(&dst)),
-                Op::Multiply { .. } | Op::ShiftProduct { .. } => {
-                    [Loc::new(DATA, PREG_INDEX), data_loc(d::PROD), data_loc(d::PRODH)]
-                        .into_iter()
-                        .for_each(&mut *f);
-                }
-                Op::Sap(_) => [data_loc(d::APOS), data_loc(d::TPOS)]
-                    .into_iter()
-                    .for_each(&mut *f),
-                _ => {}
-            }
-        }
-        if self.profile.active || self.data[d::ASPD as usize] != 0 {
-            [d::TPOS, d::TSPD, d::APOS, d::ASPD, d::POSERR]
-                .into_iter()
-                .map(data_loc)
-                .for_each(f);
-        }
+        self.each_written(f);
+    }
+    fn note_writes(&self, set: &mut crate::machine::WriteSet) {
+        self.each_written(|loc| set.insert(loc));
     }
     fn explain_last(&self) -> Option<String> {
         super::explain::explain(self)
