@@ -597,3 +597,48 @@ END
     assert_eq!(d.machine().last_line(), Some(3));
     assert!(d.pos().tick > 40_001 && d.pos().tick < 40_020);
 }
+
+#[test]
+fn who_wrote_and_the_log_in_every_dialect() {
+    // (dialect, program, location, the line that writes it, ticks to run)
+    let cases = [
+        (
+            "tml",
+            "int a;\n        a = 5;\n        a += 2;\n        END;\n",
+            "a",
+            [3, 2],
+        ),
+        (
+            "dl205",
+            "STR SP1\nLD V2000\nADDB K1\nOUT V2000\nEND\n",
+            "V2000",
+            [4, 4],
+        ),
+        ("opennet", "LODN M0\nINC(W) D0\nEND\n", "D0", [2, 2]),
+    ];
+    for (dialect, source, name, lines) in cases {
+        let mut d = debugger(dialect, source);
+        d.goto_tick(3);
+        while d.advance(0.016, Duration::from_millis(200)) {}
+        let loc = d.find(name).expect("the location");
+        let end_value = value_of(d.machine(), loc);
+        assert!(d.who_wrote(loc).is_some(), "{dialect}");
+        assert_eq!(d.machine().last_line(), Some(lines[0]), "{dialect}");
+        assert_eq!(
+            value_of(d.machine(), loc),
+            end_value,
+            "{dialect}: the last write"
+        );
+        let first = d.pos();
+        assert!(d.who_wrote(loc).is_some(), "{dialect}");
+        assert_eq!(d.machine().last_line(), Some(lines[1]), "{dialect}");
+        assert!(d.pos() < first);
+        let log = d.execution_log(LogFilter::Writes(loc), 100, u64::MAX);
+        assert!(
+            log.rows
+                .iter()
+                .all(|r| r.written.iter().any(|(n, _)| n == name))
+        );
+        assert_eq!(log.rows.last().map(|r| r.at), Some(d.pos()), "{dialect}");
+    }
+}
