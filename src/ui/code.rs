@@ -305,6 +305,7 @@ pub fn hover_value(m: &dyn crate::machine::MachineView, word: &str) -> Option<St
                 .iter()
                 .map(|f| format!("{:>8}  {}", f.name(), f.show(raw, info.width))),
         );
+        lines.push("Right-click: who wrote it, break on it, watch it".to_string());
         return Some(lines.join("\n"));
     }
     let lower = word.to_ascii_lowercase();
@@ -549,8 +550,14 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                         .index
                         .0;
                     view.menu_location = word_at(&text, under).and_then(|word| {
-                        let loc = debugger.find(&word)?;
-                        Some((debugger.machine().info(loc)?.name, loc))
+                        let m = debugger.machine();
+                        let loc = m.find(&word).or_else(|| {
+                            m.program_names()
+                                .into_iter()
+                                .find(|(n, _)| n.eq_ignore_ascii_case(&word))
+                                .map(|(_, l)| l)
+                        })?;
+                        Some((m.info(loc)?.name, loc))
                     });
                 }
                 if let Some((name, loc)) = view.menu_location.clone() {
