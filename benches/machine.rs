@@ -14,7 +14,7 @@ const COMMANDS: u64 = 1_000_000;
 
 #[path = "common/programs.rs"]
 mod programs;
-use programs::ARITHMETIC;
+use programs::{ARITHMETIC, TML_ARITHMETIC, dl205_program, opennet_program};
 
 const QUEUE: &str = "\
       CLD Q_INIT, 11, 40, 16
@@ -130,70 +130,6 @@ fn benches(c: &mut Criterion) {
     });
     group.finish();
 }
-
-/// A 100-instruction OpenNet scan: one condition, then 99 advanced instructions of every type,
-/// a third of them with REP 4.
-fn opennet_program() -> String {
-    let mut src = String::from("LODN M0\n");
-    let forms = [
-        "ADD(W) D100(R) D0 D0 REP 4",
-        "ADD(I) D1 7 D1",
-        "SUB(L) D2 3 D2",
-        "MUL(W) D10 D11 D20",
-        "DIV(I) D1 5 D30",
-        "MOV(D) D2(R) D40(R) REP 4",
-        "ADD(D) D50 65537 D50",
-        "INC(W) D60",
-        "SUB(W) D100(R) D61 D62(R) REP 4",
-    ];
-    for i in 0..99 {
-        src.push_str(forms[i % forms.len()]);
-        src.push('\n');
-    }
-    src.push_str("END\n");
-    src
-}
-
-/// A 100-instruction DL205 scan: rungs of loads, BCD and binary math and outs.
-fn dl205_program() -> String {
-    let mut src = String::from("STR SP0\nLD K1234\nOUT V0\nLDD K00125000\nOUTD V2\n");
-    let rung = [
-        "STR SP1", "LDD V2", "ADDD K1", "OUTD V2", "LD V0", "MUL K3", "DIV K7", "OUT V10", "POP",
-        "OUT V11", "LDD V2", "LDD K400", "SUBS", "BIN", "ADDB K5", "OUTD V20", "LD V0", "SHFL K2",
-        "OUT V30",
-    ];
-    let mut count = 5;
-    'fill: loop {
-        for i in rung {
-            if count == 99 {
-                break 'fill;
-            }
-            src.push_str(i);
-            src.push('\n');
-            count += 1;
-        }
-    }
-    // The last rung needs an output before END.
-    src.push_str("END\n");
-    src
-}
-
-/// Ten statements a round: 16- and 32-bit adds, a multiply into PREG, a fixed division, a
-/// shift, a read of PRODH and a conditional jump.
-const TML_ARITHMETIC: &str = "\
-int i; int k; long l; fixed f; long h;
-        k = 7;
-loop:   i += 3;
-        l += i;
-        l * k << 2;
-        h = PRODH;
-        f = l;
-        f /= k;
-        l >>= 1;
-        i -= 1;
-        f += 0.5;
-        GOTO loop, k, GT;
-";
 
 criterion_group!(machine_benches, benches);
 criterion_main!(machine_benches);

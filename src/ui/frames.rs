@@ -17,13 +17,16 @@ pub fn run_slice(overhead: Duration) -> Duration {
 }
 
 /// Frame-time measurement (`servoscope --frame-stats N FILE`): runs the program unlimited and
-/// reports the frame interval and the time spent in `ui`, median and worst, over N frames.
+/// reports the frame interval and the time spent in `ui`, median and worst, over N frames, and
+/// the simulation rate they achieved.
 pub struct FrameStats {
     frames: usize,
     warmup: usize,
     intervals: Vec<f64>,
     work: Vec<f64>,
     last: Option<Instant>,
+    /// When measuring began, and the tick the machine was at.
+    start: Option<(Instant, u64)>,
 }
 
 impl FrameStats {
@@ -34,14 +37,24 @@ impl FrameStats {
             intervals: Vec::new(),
             work: Vec::new(),
             last: None,
+            start: None,
         }
     }
 
-    pub fn record(&mut self, started: Instant, finished: Instant) -> Option<String> {
+    /// One frame that began at `started` and ended at `finished` with the machine at `tick`
+    /// (ticks of `tick_micros`). The report, once N frames are measured.
+    pub fn record(
+        &mut self,
+        started: Instant,
+        finished: Instant,
+        tick: u64,
+        tick_micros: u32,
+    ) -> Option<String> {
         if let Some(last) = self.last {
             if self.warmup > 0 {
                 self.warmup -= 1;
             } else {
+                self.start.get_or_insert((started, tick));
                 self.intervals
                     .push(started.duration_since(last).as_secs_f64() * 1e3);
                 self.work
@@ -56,9 +69,14 @@ impl FrameStats {
             };
             let (interval_median, interval_worst) = stats(&mut self.intervals);
             let (work_median, work_worst) = stats(&mut self.work);
+            let (t0, tick0) = self.start.unwrap_or((started, tick));
+            let seconds = finished.duration_since(t0).as_secs_f64().max(1e-9);
+            let rate = tick.saturating_sub(tick0) as f64 / seconds;
+            let real_time = rate * f64::from(tick_micros) / 1e6;
             format!(
-                "{} frames running unlimited: frame interval median {interval_median:.2} ms, worst {interval_worst:.2} ms; time in ui (simulation + layout) median {work_median:.2} ms, worst {work_worst:.2} ms",
-                self.frames
+                "{} frames running unlimited: frame interval median {interval_median:.2} ms, worst {interval_worst:.2} ms; time in ui (simulation + layout) median {work_median:.2} ms, worst {work_worst:.2} ms; {:.2} M ticks/s (×{real_time:.0} real time)",
+                self.frames,
+                rate / 1e6
             )
         })
     }

@@ -946,7 +946,9 @@ impl eframe::App for ServoscopeApp {
         let started = Instant::now();
         self.show(ui);
         if let Some(stats) = &mut self.frame_stats {
-            if let Some(report) = stats.record(started, Instant::now()) {
+            let m = self.debugger.machine();
+            if let Some(report) = stats.record(started, Instant::now(), m.ticks(), m.tick_micros())
+            {
                 eprintln!("{report}");
                 // A measurement run is not work to keep: close without "unsaved changes".
                 self.allow_close = true;
