@@ -642,3 +642,32 @@ fn who_wrote_and_the_log_in_every_dialect() {
         assert_eq!(log.rows.last().map(|r| r.at), Some(d.pos()), "{dialect}");
     }
 }
+
+proptest::proptest! {
+    #[test]
+    fn any_condition_text_compiles_or_says_where_and_never_panics(
+        text in "[ -~]{0,40}",
+        tokens in proptest::collection::vec(
+            proptest::sample::select(vec![
+                "R4", "R12", "IO3", "PSW.12", "(", ")", "&&", "||", "!", "-", "~", "+", "*",
+                "/", "%", "<<", ">>", "==", "!=", "<", ">=", "0x7FFFFFFFFFFFFFFF", "0", "1",
+                "-9223372036854775808", "&", "|", "^", "=", "{", "}", ".",
+            ]),
+            0..24,
+        ),
+    ) {
+        let d = debugger("silverlode", LOOP);
+        for source in [text.clone(), tokens.join(" "), tokens.concat()] {
+            let chars = source.chars().count();
+            match servoscope::debugger::expr::Expr::compile(&source, d.machine()) {
+                Ok(e) => {
+                    let _ = e.eval(d.machine());
+                }
+                Err(e) => proptest::prop_assert!(e.col >= 1 && e.col <= chars + 1, "{source}: {e}"),
+            }
+            if let Ok(m) = servoscope::debugger::expr::Message::compile(&source, d.machine()) {
+                let _ = m.render(d.machine());
+            }
+        }
+    }
+}
