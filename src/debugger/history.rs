@@ -200,6 +200,8 @@ impl<M: Machine> Timeline<M> {
         } = self;
         let mut values = [0i64; super::trace::MAX_CHANNELS];
         let n = channels.len();
+        // The trace's newest sample while it is known, so an unchanged tick costs a comparison.
+        let mut held: Option<[i64; super::trace::MAX_CHANNELS]> = None;
         // Writes are noted only where history is new (a re-run noted them the first time).
         // The run loop asks `stop` at every boundary; the observer only says when a checkpoint
         // began a new stretch, so the set stays in a local until then.
@@ -229,8 +231,15 @@ impl<M: Machine> Timeline<M> {
             |m, why| {
                 let t = m.ticks();
                 sample(m, channels, &mut values);
-                // A second record of a tick (after an edit) replaces its values.
-                trace.record(t, &values[..n]);
+                if held.is_some_and(|h| h[..n] == values[..n]) {
+                    // Unchanged since the trace's newest sample: only its end moves.
+                    trace.extend_to(t);
+                } else if trace.record(t, &values[..n]) {
+                    // (A second record of a tick, after an edit, replaces its values.)
+                    held = Some(values);
+                } else {
+                    held = None;
+                }
                 if why == Observed::Tick
                     && t.is_multiple_of(CHECKPOINT_EVERY)
                     && checkpoints.last().is_none_or(|c| c.ticks() < t)

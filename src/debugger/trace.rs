@@ -135,9 +135,18 @@ impl Trace {
         self.dropped = 0;
     }
 
-    /// Record the values after `tick`. Kept only if something changed (or it is the first).
+    /// The values held until `tick` (nothing changed): what `record` does with the values of
+    /// the last sample, without comparing them.
     #[inline]
-    pub fn record(&mut self, tick: u64, values: &[i64]) {
+    pub fn extend_to(&mut self, tick: u64) {
+        self.end = self.end.max(tick);
+    }
+
+    /// Record the values after `tick`. Kept only if something changed (or it is the first).
+    /// Returns whether the newest sample now holds `values` (false only for a tick older than
+    /// the newest sample, which changes nothing).
+    #[inline]
+    pub fn record(&mut self, tick: u64, values: &[i64]) -> bool {
         self.end = self.end.max(tick);
         if let Some(last) = self.ticks.len().checked_sub(1) {
             let same = self
@@ -152,8 +161,9 @@ impl Trace {
                         column[last] = *v;
                     }
                     self.rebuild_last_block();
+                    return true;
                 }
-                return;
+                return same;
             }
         }
         if self.ticks.len() == self.ticks.capacity() {
@@ -173,6 +183,7 @@ impl Trace {
         if self.ticks.len() > self.capacity {
             self.drop_oldest_quarter();
         }
+        true
     }
 
     fn summarise(&self, range: Range<usize>) -> Summary {
