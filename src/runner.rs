@@ -318,9 +318,10 @@ fn trace_line(m: &dyn MachineView, n: u64, started: Pos, source: &[&str]) -> Str
         line.map_or_else(|| "null".to_string(), |l| l.to_string()),
         json_string(word),
     );
-    for (i, loc) in m.last_written().into_iter().enumerate() {
+    let mut first = true;
+    for loc in m.last_written() {
         let Some(info) = m.info(loc) else { continue };
-        if i > 0 {
+        if !std::mem::take(&mut first) {
             out.push(',');
         }
         let _ = write!(

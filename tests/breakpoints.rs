@@ -671,3 +671,33 @@ proptest::proptest! {
         }
     }
 }
+
+#[test]
+fn reverse_continue_names_the_breakpoint_it_went_back_to() {
+    let mut d = debugger("silverlode", LOOP);
+    run_to_stop(&mut d);
+    d.add_breakpoint(Breakpoint::line(5));
+    d.add_breakpoint(Breakpoint::data("R13", DataTrigger::Change));
+    // From the end: the last stop is the change of R13 by line 7, with its values.
+    d.reverse_continue();
+    assert_eq!(
+        d.event(),
+        Some(&Event::Watchpoint {
+            location: "R13".into(),
+            line: 7,
+            old: 5,
+            new: 7
+        })
+    );
+    // From right before line 5 runs (itself a hit): the one before is the previous round's.
+    d.reverse_continue();
+    assert_eq!(d.event(), Some(&Event::Breakpoint(5)));
+    assert_eq!(
+        value(&d, "R11"),
+        1,
+        "the last round, before line 5 takes R11 to 0"
+    );
+    d.reverse_continue();
+    assert_eq!(d.event(), Some(&Event::Breakpoint(5)));
+    assert_eq!(value(&d, "R11"), 2);
+}

@@ -409,3 +409,40 @@ fn every_dialect_fits_the_smallest_window() {
         assert_sound_layout(h.state(), (900.0, 600.0));
     }
 }
+
+#[test]
+fn panels_added_since_a_layout_was_saved_join_it_once() {
+    // A layout saved by a build before the Breakpoints, Watches and Log panels: its preferences
+    // have no list of known panels.
+    let mut old = Layout::standard(&["Queues"]);
+    for pane in [Pane::Breakpoints, Pane::Watches, Pane::Log] {
+        old.set_shown(&pane, false);
+    }
+    let mut prefs = Prefs {
+        layout: Some(old),
+        ..Prefs::default()
+    };
+    let text = ron::to_string(&prefs).expect("prefs serialise");
+    let without_list = text
+        .split(",known_panes:")
+        .next()
+        .expect("the fields before the list")
+        .to_string()
+        + ")";
+    let restored: Prefs = ron::from_str(&without_list).expect("older prefs read");
+    let h = harness_sized(ServoscopeApp::new(restored), 1280.0, 800.0);
+    for pane in [Pane::Breakpoints, Pane::Watches, Pane::Log] {
+        assert!(
+            h.state().layout.contains(&pane),
+            "{pane:?} joins the old layout"
+        );
+    }
+    assert_sound_layout(h.state(), (1280.0, 800.0));
+    // A panel the user closed under this build stays closed.
+    let mut closed = Layout::standard(&["Queues"]);
+    closed.set_shown(&Pane::Watches, false);
+    prefs.layout = Some(closed);
+    prefs.known_panes = Pane::COMMON.to_vec();
+    let h = harness_sized(ServoscopeApp::new(prefs), 1280.0, 800.0);
+    assert!(!h.state().layout.contains(&Pane::Watches));
+}

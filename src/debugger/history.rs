@@ -349,7 +349,9 @@ impl<M: Machine> Timeline<M> {
             let mut first = true;
             self.rerun(before, |m| {
                 let p = m.pos();
-                if wanted(m, std::mem::take(&mut first)) && p < before {
+                // Nothing at or after `before` is asked: a stateful predicate's record of its
+                // last match is then the match `found` names.
+                if p < before && wanted(m, std::mem::take(&mut first)) {
                     found = Some(p);
                 }
                 p >= end

@@ -55,6 +55,9 @@ pub struct Debugger {
     /// `breaks` compiled against the current program, with hit counts and the log.
     checker: RefCell<Checker>,
     watches: Vec<Watch>,
+    /// Counts new timelines (restart, assembly, another program): views that cache what they
+    /// computed from the history compare it.
+    generation: u64,
     /// The last "who wrote this?" answer: asking again at it goes further back.
     last_writer: Option<(Loc, Pos)>,
     goal: Option<Goal>,
@@ -91,6 +94,12 @@ impl ChannelChoice {
             })
             .collect()
     }
+}
+
+/// A number no other timeline of this process has had.
+fn next_generation() -> u64 {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+    NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
 }
 
 /// An empty program of `dialect`, for the moments before anything assembles.
@@ -147,6 +156,7 @@ impl Debugger {
             breaks: Vec::new(),
             checker,
             watches: Vec::new(),
+            generation: 0,
             last_writer: None,
             goal: None,
             resume_past_breakpoint: false,
@@ -186,8 +196,8 @@ impl Debugger {
         }
         let channels = d.resolve_channels(engine.machine());
         d.engine = engine.restarted(events, channels);
+        d.generation = next_generation();
         d.set_breakpoints(breakpoints);
-        d.rebuild_checker(false);
         d.event = None;
         d.replay_to(furthest, &mut |_| true);
         Ok(d)
@@ -309,6 +319,12 @@ impl Debugger {
         }
     }
 
+    /// Which timeline this is: it changes whenever a new one starts (restart, assembly, another
+    /// program, a session).
+    pub fn generation(&self) -> u64 {
+        self.generation
+    }
+
     /// Bytes the history holds (checkpoints, events, trace).
     pub fn history_bytes(&self) -> usize {
         self.engine.memory_bytes()
@@ -425,6 +441,7 @@ impl Debugger {
         self.engine = self.engine.restarted(Vec::new(), channels);
         self.goal = None;
         self.last_writer = None;
+        self.generation = next_generation();
         self.rebuild_checker(false);
     }
 

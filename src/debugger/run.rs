@@ -547,37 +547,12 @@ impl Debugger {
         };
         let hit = self.engine.find_back(now, &at_breakpoint);
         self.engine.goto(hit.unwrap_or_default());
-        // The search ran past the hit it found: ask again at the hit for its values.
-        let which = hit.and_then(|_| {
-            let mut c = checker.into_inner();
-            c.hit.take()
-        });
+        // The search's record of its last match is the match it went back to.
+        let which = checker.into_inner().hit;
         self.event = Some(match hit {
-            Some(_) => {
-                let event = self.breakpoint_event(which);
-                self.reverse_values(event)
-            }
+            Some(_) => self.breakpoint_event(which),
             None => Event::NoEarlierBreakpoint,
         });
-    }
-
-    /// A data breakpoint's values as they are at the position gone back to (the search's own
-    /// record is of the last match it evaluated, which may be a later one).
-    fn reverse_values(&self, event: Event) -> Event {
-        match event {
-            Event::Watchpoint { location, line, .. } => {
-                let new = self
-                    .find(&location)
-                    .map_or(0, |loc| crate::machine::value_of(self.machine(), loc));
-                Event::Watchpoint {
-                    location,
-                    line,
-                    old: new,
-                    new,
-                }
-            }
-            other => other,
-        }
     }
 }
 

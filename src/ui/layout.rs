@@ -72,6 +72,12 @@ impl Pane {
     }
 }
 
+/// The panels of builds before the Breakpoints, Watches and Log panels (preferences saved by
+/// them list no panels).
+pub fn panes_before_debugger_panels() -> Vec<Pane> {
+    Pane::COMMON[..5].to_vec()
+}
+
 /// Below this no tile can be dragged smaller.
 const MIN_TILE: f32 = 40.0;
 /// The gap between tiles, and each tab bar's height.
@@ -192,6 +198,28 @@ impl Layout {
                 self.tree.make_active(|tile, _| tile == id);
             }
             _ => {}
+        }
+    }
+
+    /// Add `pane` as a tab beside `anchor` (anywhere, when `anchor` is not shown as a tab);
+    /// nothing when it is already in the layout.
+    pub fn add_beside(&mut self, pane: Pane, anchor: &Pane) {
+        if self.contains(&pane) {
+            return;
+        }
+        let tiles = &self.tree.tiles;
+        let tabs = tiles
+            .find_pane(anchor)
+            .and_then(|a| tiles.parent_of(a))
+            .filter(|&p| matches!(tiles.get_container(p), Some(egui_tiles::Container::Tabs(_))));
+        match tabs {
+            Some(tabs) => {
+                let id = self.tree.tiles.insert_pane(pane);
+                if let Some(egui_tiles::Tile::Container(c)) = self.tree.tiles.get_mut(tabs) {
+                    c.add_child(id);
+                }
+            }
+            None => self.set_shown(&pane, true),
         }
     }
 

@@ -29,7 +29,7 @@ pub struct LogView {
     pub log: ExecutionLog,
     pub filter_error: Option<String>,
     /// What the shown log was computed for.
-    key: Option<(Pos, Pos, usize, LogFilter, String)>,
+    key: Option<(u64, Pos, Pos, usize, LogFilter)>,
     /// Scroll to the newest entry on the next draw.
     scroll_to_end: bool,
 }
@@ -68,11 +68,11 @@ impl LogView {
         }
         let filter = self.filter(debugger);
         let key = (
+            debugger.generation(),
             debugger.pos(),
             debugger.furthest(),
             debugger.events().len(),
             filter,
-            debugger.source().to_string(),
         );
         if self.key.as_ref() == Some(&key) {
             return;

@@ -116,6 +116,10 @@ pub struct Prefs {
     /// The panel layout as the user left it; `None` for the default.
     #[serde(with = "layout::as_text")]
     pub layout: Option<layout::Layout>,
+    /// The panels this build had when `layout` was saved: a panel added since then joins a
+    /// saved layout once, while one the user closed stays closed.
+    #[serde(default = "layout::panes_before_debugger_panels")]
+    pub known_panes: Vec<layout::Pane>,
 }
 
 impl Default for Prefs {
@@ -127,6 +131,7 @@ impl Default for Prefs {
             register_format: Format::Signed,
             only_used_registers: true,
             layout: None,
+            known_panes: layout::Pane::COMMON.to_vec(),
         }
     }
 }
@@ -211,6 +216,11 @@ impl ServoscopeApp {
             .and_then(layout::Layout::checked)
             .unwrap_or_else(|| layout::Layout::standard(&titles));
         layout.sync_dialect_panels(&titles);
+        for pane in layout::Pane::COMMON {
+            if !prefs.known_panes.contains(&pane) {
+                layout.add_beside(pane, &layout::Pane::Bits);
+            }
+        }
         let mut app = ServoscopeApp {
             debugger,
             path: None,
@@ -962,6 +972,7 @@ impl eframe::App for ServoscopeApp {
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
         self.prefs.layout = Some(self.layout.clone());
+        self.prefs.known_panes = layout::Pane::COMMON.to_vec();
         eframe::set_value(storage, PREFS_KEY, &self.prefs);
     }
 }
