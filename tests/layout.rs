@@ -442,7 +442,7 @@ fn panels_added_since_a_layout_was_saved_join_it_once() {
     let mut closed = Layout::standard(&["Queues"]);
     closed.set_shown(&Pane::Watches, false);
     prefs.layout = Some(closed);
-    prefs.known_panes = Pane::COMMON.to_vec();
+    prefs.known_panes = Pane::common_titles();
     let h = harness_sized(ServoscopeApp::new(prefs), 1280.0, 800.0);
     assert!(!h.state().layout.contains(&Pane::Watches));
 }

@@ -43,6 +43,11 @@ impl Pane {
         Pane::Log,
     ];
 
+    /// The titles of [`Pane::COMMON`], as preferences keep them.
+    pub fn common_titles() -> Vec<String> {
+        Pane::COMMON.iter().map(|p| p.title().to_string()).collect()
+    }
+
     pub fn title(&self) -> &str {
         match self {
             Pane::Program => "Program",
@@ -74,8 +79,11 @@ impl Pane {
 
 /// The panels of builds before the Breakpoints, Watches and Log panels (preferences saved by
 /// them list no panels).
-pub fn panes_before_debugger_panels() -> Vec<Pane> {
-    Pane::COMMON[..5].to_vec()
+pub fn panes_before_debugger_panels() -> Vec<String> {
+    Pane::COMMON[..5]
+        .iter()
+        .map(|p| p.title().to_string())
+        .collect()
 }
 
 /// Below this no tile can be dragged smaller.

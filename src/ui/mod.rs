@@ -116,10 +116,11 @@ pub struct Prefs {
     /// The panel layout as the user left it; `None` for the default.
     #[serde(with = "layout::as_text")]
     pub layout: Option<layout::Layout>,
-    /// The panels this build had when `layout` was saved: a panel added since then joins a
-    /// saved layout once, while one the user closed stays closed.
+    /// The titles of the panels the build had when `layout` was saved: a panel added since
+    /// then joins a saved layout once, while one the user closed stays closed. Plain text, so
+    /// a damaged entry costs nothing.
     #[serde(default = "layout::panes_before_debugger_panels")]
-    pub known_panes: Vec<layout::Pane>,
+    pub known_panes: Vec<String>,
 }
 
 impl Default for Prefs {
@@ -131,7 +132,7 @@ impl Default for Prefs {
             register_format: Format::Signed,
             only_used_registers: true,
             layout: None,
-            known_panes: layout::Pane::COMMON.to_vec(),
+            known_panes: layout::Pane::common_titles(),
         }
     }
 }
@@ -217,7 +218,7 @@ impl ServoscopeApp {
             .unwrap_or_else(|| layout::Layout::standard(&titles));
         layout.sync_dialect_panels(&titles);
         for pane in layout::Pane::COMMON {
-            if !prefs.known_panes.contains(&pane) {
+            if !prefs.known_panes.iter().any(|t| t == pane.title()) {
                 layout.add_beside(pane, &layout::Pane::Bits);
             }
         }
@@ -972,7 +973,7 @@ impl eframe::App for ServoscopeApp {
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
         self.prefs.layout = Some(self.layout.clone());
-        self.prefs.known_panes = layout::Pane::COMMON.to_vec();
+        self.prefs.known_panes = layout::Pane::common_titles();
         eframe::set_value(storage, PREFS_KEY, &self.prefs);
     }
 }
