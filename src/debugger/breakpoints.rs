@@ -182,6 +182,7 @@ struct DataCheck {
 }
 
 /// The enabled breakpoints compiled against a program, with their hit counters.
+#[derive(Default)]
 pub struct Checker {
     compiled: Vec<Option<Compiled>>,
     /// Line breakpoints by line (index = line): indices into `compiled`.

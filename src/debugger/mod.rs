@@ -17,6 +17,7 @@ pub mod log;
 mod run;
 pub mod trace;
 mod watch;
+mod worker;
 
 use std::cell::RefCell;
 use std::collections::BTreeSet;
@@ -70,6 +71,13 @@ pub struct Debugger {
     /// Commands owed at slow speeds (fractions carry over between frames).
     credit: f64,
     event: Option<Event>,
+    /// The simulation thread, started by the first [`Debugger::hand_off`].
+    worker: Option<worker::Worker>,
+    /// The run is with the worker; `engine` is then the stand-in.
+    lent: bool,
+    /// What stands in for the engine while the worker has it (kept to be used again).
+    spare: Option<Box<dyn Engine>>,
+    rate: run::RateMeter,
 }
 
 /// A plot channel as the user chose it: a location name, a legend and a plot group.
@@ -165,6 +173,10 @@ impl Debugger {
             speed: Speed::PerSecond(10.0),
             credit: 0.0,
             event: None,
+            worker: None,
+            lent: false,
+            spare: None,
+            rate: run::RateMeter::default(),
         };
         d.assemble();
         d

@@ -1,10 +1,12 @@
 //! Run control and time travel: stepping, running at a speed in bounded slices, pausing,
 //! resetting, going to any position, stepping back and reverse-continue.
 
+use std::cell::RefCell;
 use std::time::{Duration, Instant};
 
 use super::history::MarkKind;
-use super::{CHUNK_TICKS, Debugger, STEP_TICKS_AT_ONCE, StopWhen};
+use super::breakpoints::Checker;
+use super::{CHUNK_TICKS, Debugger, Engine, STEP_TICKS_AT_ONCE, StopWhen};
 use crate::machine::{Pos, RunState, StopReason};
 
 /// How fast Run goes.
@@ -148,6 +150,89 @@ impl Event {
     }
 }
 
+/// Ticks per second over the last half second of a run.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct RateMeter {
+    window: Option<(Instant, u64)>,
+    rate: Option<f64>,
+}
+
+impl RateMeter {
+    pub fn note(&mut self, tick: u64) {
+        let now = Instant::now();
+        match self.window {
+            Some((since, from)) => {
+                let seconds = now.duration_since(since).as_secs_f64();
+                if seconds >= 0.5 {
+                    self.rate = Some(tick.saturating_sub(from) as f64 / seconds);
+                    self.window = Some((now, tick));
+                }
+            }
+            None => self.window = Some((now, tick)),
+        }
+    }
+}
+
+/// What a run asks of each stretch it runs, whichever thread runs it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Plan {
+    pub goal: Goal,
+    /// Stop when the error lamp turns on (it was off as the run began).
+    pub on_error: bool,
+    /// Do not stop at the very first boundary (resuming from a breakpoint).
+    pub skip_first: bool,
+}
+
+impl Plan {
+    fn line(&self) -> Option<usize> {
+        match self.goal {
+            Goal::ToLine(l) => Some(l),
+            _ => None,
+        }
+    }
+}
+
+/// Run at most `ticks` ticks of a run that goes as fast as it can (unlimited, or a step or a
+/// tick to reach): `Predicate` when the goal or a breakpoint stops it, `Stopped` at the end or
+/// a fault, `TickLimit` when there is more to do.
+pub(crate) fn run_chunk(
+    engine: &mut dyn Engine,
+    plan: &Plan,
+    checker: Option<&RefCell<Checker>>,
+    skip_first: bool,
+    ticks: u64,
+) -> StopReason {
+    let chunk = Pos::at_tick(engine.machine().pos().tick.saturating_add(ticks));
+    match plan.goal {
+        // Mid-instruction, the next boundary ends the step; at one, it is over.
+        Goal::FinishStep if engine.machine().run_state() == RunState::Running => {
+            StopReason::Predicate
+        }
+        Goal::FinishStep => engine.forward(
+            chunk,
+            &StopWhen {
+                any: true,
+                ..StopWhen::default()
+            },
+        ),
+        Goal::ToTick(t) => match engine.forward(chunk.min(Pos::at_tick(t)), &StopWhen::default())
+        {
+            StopReason::TickLimit if engine.machine().pos().tick >= t => StopReason::Predicate,
+            other => other,
+        },
+        Goal::Continue | Goal::ToLine(_) => engine.forward(
+            chunk,
+            &StopWhen {
+                checker,
+                line: plan.line(),
+                skip_first,
+                on_error: plan.on_error,
+                ..StopWhen::default()
+            },
+        ),
+    }
+}
+
 impl Debugger {
     // ---- run control -----------------------------------------------------------------------
 
@@ -200,6 +285,7 @@ impl Debugger {
         self.resume_past_breakpoint = true;
         self.event = None;
         self.lamp_was_on = self.machine().error_lamp();
+        self.rate = RateMeter::default();
         self.checker.get_mut().prime(self.engine.machine());
     }
 
@@ -266,16 +352,38 @@ impl Debugger {
 
     /// Run for this frame: `dt` seconds since the last frame (for slow speeds), `budget` the
     /// wall time it may take (for unlimited speed). Returns true while still running.
+    ///
+    /// After [`Debugger::hand_off`] the worker has been running meanwhile: this takes the run
+    /// back and reports where it got to, without simulating in the frame.
     pub fn advance(&mut self, dt: f64, budget: Duration) -> bool {
+        let back = self.take_back();
         let Some(goal) = self.goal else {
             return false;
         };
+        self.rate.note(self.pos().tick);
+        if let Some(reason) = back {
+            return match reason {
+                StopReason::Stopped => {
+                    self.after_stop(Event::Stepped);
+                    false
+                }
+                StopReason::Predicate => {
+                    self.reached(goal);
+                    false
+                }
+                StopReason::TickLimit => true,
+            };
+        }
         if !self.machine().run_state().is_live() {
             self.after_stop(Event::Stepped);
             return false;
         }
         if let (Goal::Continue | Goal::ToLine(_), Speed::RealTime(factor)) = (goal, self.speed) {
             return self.advance_in_real_time(goal, factor, dt);
+        }
+        if self.worker.is_some() && self.runs_on_worker(goal) {
+            // The worker runs it once the frame is drawn.
+            return true;
         }
         let started = Instant::now();
         let mut commands = match (goal, self.speed) {
@@ -290,67 +398,35 @@ impl Debugger {
             }
         };
         let checker = (!self.checker.get_mut().is_empty()).then_some(&self.checker);
-        // Break on error stops when the lamp turns on: not if it was on as the run began.
-        let on_error = self.break_on_error && !self.lamp_was_on;
-        let line = match goal {
-            Goal::ToLine(l) => Some(l),
-            _ => None,
+        let plan = Plan {
+            goal,
+            on_error: self.break_on_error && !self.lamp_was_on,
+            skip_first: false,
         };
         while commands > 0 {
             let skip = std::mem::take(&mut self.resume_past_breakpoint);
             let now = self.pos();
-            let chunk = Pos::at_tick(now.tick.saturating_add(CHUNK_TICKS));
-            let reason = match goal {
-                // Mid-instruction, the next boundary ends the step; at one, it is over.
-                Goal::FinishStep if self.machine().run_state() == RunState::Running => {
+            let reason = if commands == u64::MAX {
+                run_chunk(self.engine.as_mut(), &plan, checker, skip, CHUNK_TICKS)
+            } else {
+                let at_stop = StopWhen {
+                    checker,
+                    line: plan.line(),
+                    on_error: plan.on_error,
+                    ..StopWhen::default()
+                };
+                if !skip && at_stop.holds(self.machine()) {
                     StopReason::Predicate
-                }
-                Goal::FinishStep => self.engine.forward(
-                    chunk,
-                    &StopWhen {
-                        any: true,
-                        ..StopWhen::default()
-                    },
-                ),
-                Goal::ToTick(t) => {
-                    match self
-                        .engine
-                        .forward(chunk.min(Pos::at_tick(t)), &StopWhen::default())
-                    {
-                        StopReason::TickLimit if self.pos().tick >= t => StopReason::Predicate,
-                        other => other,
-                    }
-                }
-                _ if commands == u64::MAX => self.engine.forward(
-                    chunk,
-                    &StopWhen {
-                        checker,
-                        line,
-                        skip_first: skip,
-                        on_error,
-                        ..StopWhen::default()
-                    },
-                ),
-                _ => {
-                    let at_stop = StopWhen {
-                        checker,
-                        line,
-                        on_error,
+                } else {
+                    commands -= 1;
+                    let one = StopWhen {
+                        after: Some(now),
                         ..StopWhen::default()
                     };
-                    if !skip && at_stop.holds(self.machine()) {
-                        StopReason::Predicate
-                    } else {
-                        commands -= 1;
-                        let one = StopWhen {
-                            after: Some(now),
-                            ..StopWhen::default()
-                        };
-                        let limit = Pos::at_tick(now.tick.saturating_add(STEP_TICKS_AT_ONCE));
-                        match self.engine.forward(limit, &one) {
-                            StopReason::Predicate => StopReason::TickLimit,
-                            other => other,
-                        }
+                    let limit = Pos::at_tick(now.tick.saturating_add(STEP_TICKS_AT_ONCE));
+                    match self.engine.forward(limit, &one) {
+                        StopReason::Predicate => StopReason::TickLimit,
+                        other => other,
                     }
                 }
             };
@@ -371,6 +447,80 @@ impl Debugger {
             }
         }
         true
+    }
+
+    /// Whether a run goes to the worker between frames: one that runs as fast as it can.
+    fn runs_on_worker(&self, goal: Goal) -> bool {
+        matches!(goal, Goal::FinishStep | Goal::ToTick(_)) || self.speed == Speed::Unlimited
+    }
+
+    /// Lend the run in progress to the worker thread until the next [`Debugger::advance`] (the
+    /// window calls this when a frame is drawn). Does nothing unless a run goes as fast as it
+    /// can; without a thread the run goes on inside the frames.
+    pub fn hand_off(&mut self) {
+        let Some(goal) = self.goal else {
+            return;
+        };
+        if self.lent || !self.runs_on_worker(goal) || !self.machine().run_state().is_live() {
+            return;
+        }
+        if self.worker.is_none() {
+            self.worker = super::worker::Worker::spawn();
+        }
+        let Some(worker) = &self.worker else {
+            return;
+        };
+        let spare = match self.spare.take() {
+            Some(spare) => spare,
+            None => super::empty_engine(self.dialect, &self.settings),
+        };
+        let job = super::worker::Job {
+            engine: std::mem::replace(&mut self.engine, spare),
+            checker: std::mem::take(self.checker.get_mut()),
+            plan: Plan {
+                goal,
+                on_error: self.break_on_error && !self.lamp_was_on,
+                skip_first: std::mem::take(&mut self.resume_past_breakpoint),
+            },
+        };
+        match worker.send(job) {
+            Ok(()) => self.lent = true,
+            Err(job) => {
+                self.resume_past_breakpoint = job.plan.skip_first;
+                self.spare = Some(std::mem::replace(&mut self.engine, job.engine));
+                *self.checker.get_mut() = job.checker;
+                self.worker = None;
+            }
+        }
+    }
+
+    /// The run lent to the worker, back: why the worker stopped it (`TickLimit`: it did not).
+    /// `None` when nothing was lent.
+    pub(crate) fn take_back(&mut self) -> Option<StopReason> {
+        if !std::mem::take(&mut self.lent) {
+            return None;
+        }
+        match self.worker.as_ref().and_then(|w| w.call_back()) {
+            Some(done) => {
+                self.spare = Some(std::mem::replace(&mut self.engine, done.engine));
+                *self.checker.get_mut() = done.checker;
+                Some(done.reason)
+            }
+            None => {
+                // The thread died with the run (it never should): start over rather than show
+                // the stand-in.
+                self.worker = None;
+                self.goal = None;
+                self.restart();
+                None
+            }
+        }
+    }
+
+    /// The rate the run in progress achieves, in ticks per second (measured over about half a
+    /// second).
+    pub fn run_rate(&self) -> Option<f64> {
+        self.goal.and(self.rate.rate)
     }
 
     /// The run's goal came true (or a breakpoint): stop and say which.

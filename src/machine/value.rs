@@ -168,6 +168,11 @@ fn group_from_right(text: &str, size: usize, separator: &str) -> String {
     chunks_from_right(text, size).join(separator)
 }
 
+/// `1234567` as `1,234,567`.
+pub fn group_thousands(n: u64) -> String {
+    group_from_right(&n.to_string(), 3, ",")
+}
+
 /// `round(x × 65536)`, ties away from zero, computed exactly from the decimal text; the result
 /// must fit a signed 32-bit word.
 pub fn parse_q16(inner: &str) -> Result<i64, ValueError> {

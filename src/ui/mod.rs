@@ -813,9 +813,7 @@ impl ServoscopeApp {
         let slice = run_slice(self.overhead);
         let dt = interval.map_or(0.0, |d| d.as_secs_f64());
         let sim_start = Instant::now();
-        if self.debugger.advance(dt, slice) {
-            ctx.request_repaint();
-        }
+        self.debugger.advance(dt, slice);
         self.last_slice = sim_start.elapsed();
 
         egui::Panel::top("menu").show(ui, |ui| {
@@ -891,7 +889,8 @@ impl ServoscopeApp {
             ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
             self.title = title;
         }
-        if self.debugger.is_running() || self.files.is_waiting() {
+        let paced = self.debugger.is_running() && self.debugger.speed() == crate::debugger::Speed::Unlimited;
+        if (self.debugger.is_running() && !paced) || self.files.is_waiting() {
             ctx.request_repaint();
         }
     }
@@ -952,10 +951,21 @@ fn unsaved_prompt(ctx: &egui::Context, pending: Option<&Pending>, out: &mut Vec<
     });
 }
 
-impl eframe::App for ServoscopeApp {
-    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+impl ServoscopeApp {
+    /// A frame of the window: [`ServoscopeApp::show`], then the run in progress goes to the
+    /// worker thread until the next frame, which comes a frame's time after this one began.
+    pub fn frame(&mut self, ui: &mut egui::Ui) {
         let started = Instant::now();
         self.show(ui);
+        self.record_frame_stats(ui.ctx(), started);
+        self.debugger.hand_off();
+        if self.debugger.is_running() && self.debugger.speed() == crate::debugger::Speed::Unlimited {
+            ui.ctx()
+                .request_repaint_after(TARGET_FRAME.saturating_sub(started.elapsed()));
+        }
+    }
+
+    fn record_frame_stats(&mut self, ctx: &egui::Context, started: Instant) {
         if let Some(stats) = &mut self.frame_stats {
             let m = self.debugger.machine();
             if let Some(report) = stats.record(started, Instant::now(), m.ticks(), m.tick_micros())
@@ -964,11 +974,19 @@ impl eframe::App for ServoscopeApp {
                 // A measurement run is not work to keep: close without "unsaved changes".
                 self.allow_close = true;
                 self.pending = None;
-                ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
+                ctx.send_viewport_cmd(egui::ViewportCommand::Close);
                 self.frame_stats = None;
+            } else if !self.debugger.is_running() {
+                // A program that ended still counts its frames to the last.
+                ctx.request_repaint();
             }
-            ui.ctx().request_repaint();
         }
+    }
+}
+
+impl eframe::App for ServoscopeApp {
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        self.frame(ui);
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {

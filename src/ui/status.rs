@@ -55,6 +55,11 @@ pub fn status_bar(ui: &mut egui::Ui, debugger: &Debugger) {
         ui.monospace(time);
         ui.separator();
         ui.monospace(format!("{} {}", words.steps, m.steps()));
+        if let Some(rate) = debugger.run_rate() {
+            ui.separator();
+            ui.monospace(rate_text(rate, m.tick_micros(), words.ticks))
+                .on_hover_text(format!("{} simulated per second of wall time", words.ticks));
+        }
         if let Some(event) = debugger.event() {
             ui.separator();
             ui.label(RichText::new(event.describe(words.tick)).color(p.dim));
@@ -70,6 +75,24 @@ pub fn status_bar(ui: &mut egui::Ui, debugger: &Debugger) {
         };
         ui.label(RichText::new(text).monospace().color(p.text));
     });
+}
+
+/// A run's speed: `152.3 M ticks/s (×18,276 real time)`.
+pub fn rate_text(ticks_per_second: f64, tick_micros: u32, ticks: &str) -> String {
+    let real_time = ticks_per_second * f64::from(tick_micros) / 1e6;
+    let rate = if ticks_per_second >= 1e6 {
+        format!("{:.1} M", ticks_per_second / 1e6)
+    } else if ticks_per_second >= 1e3 {
+        format!("{:.1} k", ticks_per_second / 1e3)
+    } else {
+        format!("{ticks_per_second:.0} ")
+    };
+    let factor = if real_time >= 10.0 {
+        crate::machine::value::group_thousands(real_time.round() as u64)
+    } else {
+        format!("{real_time:.2}")
+    };
+    format!("{rate}{ticks}/s (×{factor} real time)")
 }
 
 pub fn fault_banner(ui: &mut egui::Ui, debugger: &Debugger) {
