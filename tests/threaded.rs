@@ -142,7 +142,10 @@ fn pause_takes_the_run_back_from_the_worker_at_once() {
     d.step_command();
     assert!(d.pos() > paused);
     d.hand_off();
-    assert!(!d.advance(0.016, Duration::from_millis(1)), "nothing was running");
+    assert!(
+        !d.advance(0.016, Duration::from_millis(1)),
+        "nothing was running"
+    );
 }
 
 #[test]
@@ -177,4 +180,3 @@ fn common_loop() -> String {
     "      WRP 21, 1\nloop: CLD ADD, 20, 20, 1\n      CLX ADD, 22, 22, 21\n      JMP loop\n"
         .to_string()
 }
-

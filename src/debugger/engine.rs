@@ -124,7 +124,7 @@ impl<M: Machine> Engine for Core<M> {
     }
     fn forward(&mut self, limit: Pos, stop: &StopWhen<'_>) -> StopReason {
         if stop.is_never() {
-            return self.timeline.forward(limit, |_| false);
+            return self.timeline.forward_unstopped(limit);
         }
         let mut first = stop.skip_first;
         self.timeline.forward(limit, |m| {
@@ -175,7 +175,7 @@ impl<M: Machine> Engine for Core<M> {
         self.timeline.memory_bytes()
     }
     fn run_headless(&mut self, events: &[UserEvent], max_ticks: u64) {
-        crate::runner::run_events(&mut self.timeline.machine, events, max_ticks, |_| false);
+        crate::runner::run_events_bare(&mut self.timeline.machine, events, max_ticks);
     }
     fn run_headless_observed(
         &mut self,

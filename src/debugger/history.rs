@@ -12,7 +12,7 @@
 //!   headless runner share, so a run and a session always agree.
 
 use super::trace::{Channel, Trace};
-use crate::machine::{Loc, Machine, MachineView, Pos, StopReason, WriteError, WriteSet};
+use crate::machine::{Loc, Machine, MachineView, Pos, Quiet, StopReason, WriteError, WriteSet};
 
 pub const CHECKPOINT_EVERY: u64 = 16_384;
 
@@ -77,6 +77,25 @@ pub fn replay<M: Machine, F: FnMut(&M) -> bool, O: FnMut(&M, Observed)>(
         if apply_due(m, events, next) {
             observe(m, Observed::Edits);
         }
+        if reason == StopReason::TickLimit && m.pos() < limit {
+            continue;
+        }
+        return reason;
+    }
+}
+
+/// [`replay`] with nothing asked and nothing observed: the headless runner's loop.
+pub fn replay_bare<M: Machine>(
+    m: &mut M,
+    events: &[UserEvent],
+    next: &mut usize,
+    limit: Pos,
+) -> StopReason {
+    loop {
+        apply_due(m, events, next);
+        let until = events.get(*next).map_or(limit, |e| e.at.min(limit));
+        let reason = m.run_bare(until);
+        apply_due(m, events, next);
         if reason == StopReason::TickLimit && m.pos() < limit {
             continue;
         }
@@ -256,6 +275,71 @@ impl<M: Machine> Timeline<M> {
         }
         *furthest = (*furthest).max(machine.pos());
         reason
+    }
+
+    /// [`Timeline::forward`] for a run nothing stops: stretches in which no plotted location
+    /// changes run in the machine's quiet loop, and the trace's newest sample is only held
+    /// longer; every other tick (and each checkpoint's and event's position) is observed as
+    /// usual. Records exactly what `forward` records.
+    pub fn forward_unstopped(&mut self, limit: Pos) -> StopReason {
+        // A plotted expression may read anything: every tick must be looked at.
+        if self.channels.iter().any(|c| c.expr.is_some()) {
+            return self.forward(limit, |_| false);
+        }
+        let mut quiet = Quiet {
+            watched: self.channels.iter().map(|c| c.loc).collect(),
+            written: WriteSet::default(),
+        };
+        // Ticks observed when the quiet loop could not start: more while it keeps failing, so
+        // a program that always moves pays little for asking.
+        let mut observed = 1u64;
+        loop {
+            let now = self.machine.pos();
+            if now >= limit || !self.machine.run_state().is_live() {
+                return self.forward(limit, |_| false);
+            }
+            let checkpoint_due =
+                Pos::at_tick((now.tick / CHECKPOINT_EVERY + 1).saturating_mul(CHECKPOINT_EVERY));
+            let event_due = self.events.get(self.next_event).map(|e| e.at);
+            let until = limit.min(checkpoint_due).min(event_due.unwrap_or(limit));
+            let progressed = if until > now {
+                let Some(reason) = self.machine.run_quiet(until, &mut quiet) else {
+                    return self.forward(limit, |_| false);
+                };
+                let reached = self.machine.pos();
+                if let Some(last) = self.written.last_mut() {
+                    last.union(std::mem::take(&mut quiet.written));
+                }
+                self.trace.extend_to(reached.tick);
+                self.furthest = self.furthest.max(reached);
+                if reached == checkpoint_due
+                    && self.checkpoints.last().is_none_or(|c| c.pos() < reached)
+                {
+                    self.checkpoints.push(self.machine.clone());
+                    // The write that ends at a checkpoint belongs to the stretch it begins.
+                    let mut set = WriteSet::default();
+                    self.machine.note_writes(&mut set);
+                    self.written.push(set);
+                }
+                if reason != StopReason::TickLimit {
+                    return reason;
+                }
+                reached > now
+            } else {
+                false
+            };
+            observed = if progressed {
+                1
+            } else {
+                observed.saturating_mul(2).min(1024)
+            };
+            let here = self.machine.pos();
+            let next = limit.min(Pos::at_tick(here.tick.saturating_add(observed)));
+            let reason = self.forward(next, |_| false);
+            if reason != StopReason::TickLimit {
+                return reason;
+            }
+        }
     }
 
     /// The last instruction boundary before `before` right after an instruction that wrote

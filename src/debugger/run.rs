@@ -4,8 +4,8 @@
 use std::cell::RefCell;
 use std::time::{Duration, Instant};
 
-use super::history::MarkKind;
 use super::breakpoints::Checker;
+use super::history::MarkKind;
 use super::{CHUNK_TICKS, Debugger, Engine, STEP_TICKS_AT_ONCE, StopWhen};
 use crate::machine::{Pos, RunState, StopReason};
 
@@ -215,8 +215,7 @@ pub(crate) fn run_chunk(
                 ..StopWhen::default()
             },
         ),
-        Goal::ToTick(t) => match engine.forward(chunk.min(Pos::at_tick(t)), &StopWhen::default())
-        {
+        Goal::ToTick(t) => match engine.forward(chunk.min(Pos::at_tick(t)), &StopWhen::default()) {
             StopReason::TickLimit if engine.machine().pos().tick >= t => StopReason::Predicate,
             other => other,
         },

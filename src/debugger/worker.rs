@@ -109,7 +109,13 @@ fn run_job(job: Job, call_back: &AtomicBool, chunk: &mut u64) -> Done {
     let mut skip = plan.skip_first;
     let reason = loop {
         let started = Instant::now();
-        let reason = run_chunk(engine.as_mut(), &plan, active, std::mem::take(&mut skip), *chunk);
+        let reason = run_chunk(
+            engine.as_mut(),
+            &plan,
+            active,
+            std::mem::take(&mut skip),
+            *chunk,
+        );
         if reason != StopReason::TickLimit {
             break reason;
         }

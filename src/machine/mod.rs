@@ -451,6 +451,21 @@ pub trait Machine: MachineView + Clone + PartialEq {
         self.run_observed(Pos::at_tick(tick_limit), stop, |_| {})
     }
 
+    /// `run_observed` with nothing asked and nothing observed: as fast as the dialect runs
+    /// (the headless runner's loop).
+    fn run_bare(&mut self, limit: Pos) -> StopReason {
+        self.run_observed(limit, |_| false, |_| {})
+    }
+
+    /// Run towards `limit` while no location of `quiet.watched` can change, adding the
+    /// locations written to `quiet.written`: how a timeline records a stretch in which its trace
+    /// holds still, without a look at every tick. May stop short of `limit` (with `TickLimit`)
+    /// before a tick that needs looking at; `None` when the dialect has no such loop for these
+    /// locations, and every tick is then observed.
+    fn run_quiet(&mut self, _limit: Pos, _quiet: &mut Quiet) -> Option<StopReason> {
+        None
+    }
+
     /// Advance to the end of the current tick (one tick; one scan for a PLC).
     fn step_tick(&mut self) {
         let next = Pos::at_tick(self.ticks() + 1);
@@ -464,6 +479,15 @@ pub trait Machine: MachineView + Clone + PartialEq {
         let limit = Pos::at_tick(start.tick.saturating_add(max_ticks));
         self.run_observed(limit, |m| m.pos() > start, |_| {})
     }
+}
+
+/// What [`Machine::run_quiet`] keeps still and what it reports.
+#[derive(Clone, Debug, Default)]
+pub struct Quiet {
+    /// Stop before any of these would change.
+    pub watched: Vec<Loc>,
+    /// The locations the run wrote.
+    pub written: WriteSet,
 }
 
 /// A 256-bit Bloom set of locations.

@@ -889,7 +889,8 @@ impl ServoscopeApp {
             ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
             self.title = title;
         }
-        let paced = self.debugger.is_running() && self.debugger.speed() == crate::debugger::Speed::Unlimited;
+        let paced = self.debugger.is_running()
+            && self.debugger.speed() == crate::debugger::Speed::Unlimited;
         if (self.debugger.is_running() && !paced) || self.files.is_waiting() {
             ctx.request_repaint();
         }
@@ -959,7 +960,8 @@ impl ServoscopeApp {
         self.show(ui);
         self.record_frame_stats(ui.ctx(), started);
         self.debugger.hand_off();
-        if self.debugger.is_running() && self.debugger.speed() == crate::debugger::Speed::Unlimited {
+        if self.debugger.is_running() && self.debugger.speed() == crate::debugger::Speed::Unlimited
+        {
             ui.ctx()
                 .request_repaint_after(TARGET_FRAME.saturating_sub(started.elapsed()));
         }

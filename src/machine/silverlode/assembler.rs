@@ -44,6 +44,7 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
         used.sort_unstable();
         used.dedup();
         Ok(Program {
+            flat: super::program::flatten(&asm.instrs),
             instrs: asm.instrs,
             lines: asm.lines,
             labels: asm.label_list,

@@ -2,7 +2,7 @@
 //! (spec §3–§6). Faults are raised before a command changes anything.
 
 use super::motion::FRAC;
-use super::program::{ClcOp, Cond, ExtOp, Instr, MoveKind};
+use super::program::{ClcOp, Cond, ExtOp, Instr, MoveKind, Op};
 use super::{
     Fault, FaultKind, LastExec, Outcome, REGISTERS, RawQueue, STACK_DEPTH, SilverLode, hi, isw,
     lo, psw,
@@ -667,6 +667,196 @@ impl SilverLode {
             bits |= isw::HOLDING_ERROR;
         }
         self.s.isw = bits;
+    }
+
+    /// Whether the motion model has nothing to do this tick (see `motion_tick`).
+    #[inline(always)]
+    fn motion_idle(&self) -> bool {
+        let m = &self.s.motion;
+        m.settled && (m.seen_r0, m.seen_r1) == (self.s.regs[0], self.s.regs[1])
+    }
+
+    /// Run plain commands ([`Op`]: registers and flags only, one tick each) while the machine
+    /// runs and the motor rests, exactly as `tick` would, with the bookkeeping done once at the
+    /// end. Stops after `max` commands, before a command the full executor must run, and, when
+    /// `GUARDED`, before one that would write a register of `guard` (`written` then gets the
+    /// registers written). Returns how many commands ran.
+    pub(super) fn run_plain<const GUARDED: bool>(
+        &mut self,
+        max: u64,
+        guard: &[u64; 4],
+        written: &mut [u64; 4],
+    ) -> u64 {
+        if self.s.run != RunState::Running || !self.motion_idle() {
+            return 0;
+        }
+        let SilverLode { program, s, .. } = self;
+        let flat = &program.flat[..];
+        let regs = &mut s.regs;
+        let mut isw = s.isw;
+        let mut pc = s.pc as usize;
+        let mut last = s.last;
+        let mut n = 0u64;
+        while n < max {
+            let Some(&op) = flat.get(pc) else {
+                break;
+            };
+            // (register written, value, operands for the explanation)
+            let (dst, v, x0, x1) = match op {
+                Op::AddI { res, a, d } => {
+                    let a = regs[a as usize];
+                    (res, a.wrapping_add(d), a, d)
+                }
+                Op::SubI { res, a, d } => {
+                    let a = regs[a as usize];
+                    (res, a.wrapping_sub(d), a, d)
+                }
+                Op::AndI { res, a, d } => {
+                    let a = regs[a as usize];
+                    (res, a & d, a, d)
+                }
+                Op::OrI { res, a, d } => {
+                    let a = regs[a as usize];
+                    (res, a | d, a, d)
+                }
+                Op::XorI { res, a, d } => {
+                    let a = regs[a as usize];
+                    (res, a ^ d, a, d)
+                }
+                Op::MulI { res, a, d } => {
+                    let a = regs[a as usize];
+                    (res, a.wrapping_mul(d), a, d)
+                }
+                Op::MulShr16I { res, a, d } => {
+                    let a = regs[a as usize];
+                    (res, ((i64::from(a) * i64::from(d)) >> 16) as i32, a, d)
+                }
+                Op::AddR { res, a, b } => {
+                    let (a, d) = (regs[a as usize], regs[b as usize]);
+                    (res, a.wrapping_add(d), a, d)
+                }
+                Op::SubR { res, a, b } => {
+                    let (a, d) = (regs[a as usize], regs[b as usize]);
+                    (res, a.wrapping_sub(d), a, d)
+                }
+                Op::AndR { res, a, b } => {
+                    let (a, d) = (regs[a as usize], regs[b as usize]);
+                    (res, a & d, a, d)
+                }
+                Op::OrR { res, a, b } => {
+                    let (a, d) = (regs[a as usize], regs[b as usize]);
+                    (res, a | d, a, d)
+                }
+                Op::XorR { res, a, b } => {
+                    let (a, d) = (regs[a as usize], regs[b as usize]);
+                    (res, a ^ d, a, d)
+                }
+                Op::MulR { res, a, b } => {
+                    let (a, d) = (regs[a as usize], regs[b as usize]);
+                    (res, a.wrapping_mul(d), a, d)
+                }
+                Op::MulShr16R { res, a, b } => {
+                    let (a, d) = (regs[a as usize], regs[b as usize]);
+                    (res, ((i64::from(a) * i64::from(d)) >> 16) as i32, a, d)
+                }
+                Op::AccAdd { r } => {
+                    let (acc, x) = (regs[10], regs[r as usize]);
+                    (10, acc.wrapping_add(x), acc, x)
+                }
+                Op::AccSub { r } => {
+                    let (acc, x) = (regs[10], regs[r as usize]);
+                    (10, acc.wrapping_sub(x), acc, x)
+                }
+                Op::AccMul { r } => {
+                    let (acc, x) = (regs[10], regs[r as usize]);
+                    (10, acc.wrapping_mul(x), acc, x)
+                }
+                Op::AccAnd { r } => {
+                    let (acc, x) = (regs[10], regs[r as usize]);
+                    (10, acc & x, acc, x)
+                }
+                Op::AccOr { r } => {
+                    let (acc, x) = (regs[10], regs[r as usize]);
+                    (10, acc | x, acc, x)
+                }
+                Op::AccXor { r } => {
+                    let (acc, x) = (regs[10], regs[r as usize]);
+                    (10, acc ^ x, acc, x)
+                }
+                Op::Inc { r } => {
+                    let (acc, x) = (regs[10], regs[r as usize]);
+                    (r, x.wrapping_add(1), acc, x)
+                }
+                Op::Dec { r } => {
+                    let (acc, x) = (regs[10], regs[r as usize]);
+                    (r, x.wrapping_sub(1), acc, x)
+                }
+                Op::Jmp { target } => {
+                    last = LastExec {
+                        pc: pc as u32,
+                        vals: [1, 0, 0, 0],
+                        outcome: Outcome::Done,
+                    };
+                    pc = target as usize;
+                    n += 1;
+                    continue;
+                }
+                Op::JmpIf { target, bit, want } => {
+                    let taken = (isw >> bit & 1) as u8 == want;
+                    last = LastExec {
+                        pc: pc as u32,
+                        vals: [i32::from(taken), 0, 0, 0],
+                        outcome: Outcome::Done,
+                    };
+                    pc = if taken { target as usize } else { pc + 1 };
+                    n += 1;
+                    continue;
+                }
+                Op::Full => break,
+            };
+            if GUARDED {
+                let (word, bit) = (usize::from(dst >> 6), 1u64 << (dst & 63));
+                if guard[word] & bit != 0 {
+                    break;
+                }
+                written[word] |= bit;
+            }
+            regs[dst as usize] = v;
+            isw = (isw & !isw::FLAGS) | flag_bits(v);
+            last = LastExec {
+                pc: pc as u32,
+                vals: [x0, x1, v, 0],
+                outcome: Outcome::Done,
+            };
+            pc += 1;
+            n += 1;
+        }
+        if n > 0 {
+            s.isw = isw;
+            s.pc = pc as u32;
+            s.last = last;
+            s.ticks += n;
+            s.steps += n;
+            s.motion_ticked = false;
+        }
+        n
+    }
+
+    /// Run to `tick_limit` with nothing asked and nothing observed: plain commands in the fast
+    /// loop, the rest tick by tick.
+    pub fn run_to_tick(&mut self, tick_limit: u64) -> StopReason {
+        let mut unused = [0; 4];
+        loop {
+            if matches!(self.s.run, RunState::Ended | RunState::Faulted) {
+                return StopReason::Stopped;
+            }
+            if self.s.ticks >= tick_limit {
+                return StopReason::TickLimit;
+            }
+            if self.run_plain::<false>(tick_limit - self.s.ticks, &[0; 4], &mut unused) == 0 {
+                self.tick();
+            }
+        }
     }
 
     /// Run at full speed; see [`crate::machine::Machine::run_observed`].

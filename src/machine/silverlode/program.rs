@@ -265,6 +265,145 @@ pub struct Program {
     pub used_registers: Vec<u8>,
     /// DEF names that name registers, in source order.
     pub register_names: Vec<(String, u8)>,
+    /// `instrs` pre-decoded for the fast loop, one [`Op`] per command plus an end marker.
+    pub flat: Vec<Op>,
+}
+
+/// A command as the fast loop dispatches on it: one match, operands resolved. Only commands
+/// that read and write plain registers, set the flags and take one tick have a form of their
+/// own; everything else (faults, queues, moves, waits, R0/R1, the end) is [`Op::Full`] and
+/// runs through the full executor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Op {
+    /// `res = a + d` and the others: `d` an immediate.
+    AddI { res: u8, a: u8, d: i32 },
+    SubI { res: u8, a: u8, d: i32 },
+    AndI { res: u8, a: u8, d: i32 },
+    OrI { res: u8, a: u8, d: i32 },
+    XorI { res: u8, a: u8, d: i32 },
+    MulI { res: u8, a: u8, d: i32 },
+    MulShr16I { res: u8, a: u8, d: i32 },
+    /// `res = a + b` and the others: `b` a register.
+    AddR { res: u8, a: u8, b: u8 },
+    SubR { res: u8, a: u8, b: u8 },
+    AndR { res: u8, a: u8, b: u8 },
+    OrR { res: u8, a: u8, b: u8 },
+    XorR { res: u8, a: u8, b: u8 },
+    MulR { res: u8, a: u8, b: u8 },
+    MulShr16R { res: u8, a: u8, b: u8 },
+    /// CLC: the accumulator (R10) with register `r`.
+    AccAdd { r: u8 },
+    AccSub { r: u8 },
+    AccMul { r: u8 },
+    AccAnd { r: u8 },
+    AccOr { r: u8 },
+    AccXor { r: u8 },
+    Inc { r: u8 },
+    Dec { r: u8 },
+    Jmp { target: u32 },
+    /// Taken when ISW bit `bit` is `want`.
+    JmpIf { target: u32, bit: u8, want: u8 },
+    Full,
+}
+
+impl Op {
+    /// The register a plain op writes (jumps and `Full` write none the fast loop knows of).
+    #[inline(always)]
+    pub fn writes(self) -> Option<u8> {
+        use Op::*;
+        match self {
+            AddI { res, .. } | SubI { res, .. } | AndI { res, .. } | OrI { res, .. }
+            | XorI { res, .. } | MulI { res, .. } | MulShr16I { res, .. } | AddR { res, .. }
+            | SubR { res, .. } | AndR { res, .. } | OrR { res, .. } | XorR { res, .. }
+            | MulR { res, .. } | MulShr16R { res, .. } => Some(res),
+            AccAdd { .. } | AccSub { .. } | AccMul { .. } | AccAnd { .. } | AccOr { .. }
+            | AccXor { .. } => Some(10),
+            Inc { r } | Dec { r } => Some(r),
+            Jmp { .. } | JmpIf { .. } | Full => None,
+        }
+    }
+}
+
+/// The fast loop's form of `instrs`: a command becomes [`Op::Full`] when it could fault, end the
+/// program, wait, move, or write R0/R1 (the motion model's inputs); the last command of a
+/// program always is (running past it ends the program), and one `Full` follows the end.
+pub fn flatten(instrs: &[Instr]) -> Vec<Op> {
+    let len = instrs.len() as u32;
+    let mut flat: Vec<Op> = instrs
+        .iter()
+        .enumerate()
+        .map(|(pc, &instr)| {
+            let op = flat_op(instr, len);
+            let last = pc + 1 == instrs.len();
+            let writes_motion = op.writes().is_some_and(|r| r <= 1);
+            if (last && !matches!(op, Op::Jmp { .. })) || writes_motion {
+                Op::Full
+            } else {
+                op
+            }
+        })
+        .collect();
+    flat.push(Op::Full);
+    flat
+}
+
+fn flat_op(instr: Instr, len: u32) -> Op {
+    use Op::*;
+    match instr {
+        Instr::Cld {
+            op,
+            res,
+            reg1: a,
+            data: d,
+        } => match op {
+            ExtOp::Add => AddI { res, a, d },
+            ExtOp::Sub => SubI { res, a, d },
+            ExtOp::And => AndI { res, a, d },
+            ExtOp::Or => OrI { res, a, d },
+            ExtOp::Xor => XorI { res, a, d },
+            ExtOp::MultS | ExtOp::MultU => MulI { res, a, d },
+            ExtOp::MultS64Shr16 => MulShr16I { res, a, d },
+            _ => Full,
+        },
+        Instr::Clx {
+            op,
+            res,
+            reg1: a,
+            reg2: b,
+        } => match op {
+            ExtOp::Add => AddR { res, a, b },
+            ExtOp::Sub => SubR { res, a, b },
+            ExtOp::And => AndR { res, a, b },
+            ExtOp::Or => OrR { res, a, b },
+            ExtOp::Xor => XorR { res, a, b },
+            ExtOp::MultS | ExtOp::MultU => MulR { res, a, b },
+            ExtOp::MultS64Shr16 => MulShr16R { res, a, b },
+            _ => Full,
+        },
+        Instr::Clc { op, reg: r } => match op {
+            ClcOp::Add => AccAdd { r },
+            ClcOp::Sub => AccSub { r },
+            ClcOp::MultS | ClcOp::MultU => AccMul { r },
+            ClcOp::And => AccAnd { r },
+            ClcOp::Or => AccOr { r },
+            ClcOp::Xor => AccXor { r },
+            ClcOp::Inc => Inc { r },
+            ClcOp::Dec => Dec { r },
+            _ => Full,
+        },
+        // A jump past the last command ends the program: the full executor does that.
+        Instr::Jmp { target, .. } if target >= len => Full,
+        Instr::Jmp { target, cond: None } => Jmp { target },
+        Instr::Jmp {
+            target,
+            cond: Some(c),
+        } => JmpIf {
+            target,
+            bit: c.bit.isw_bit(),
+            want: u8::from(!c.negated),
+        },
+        _ => Full,
+    }
 }
 
 impl Program {
@@ -275,6 +414,7 @@ impl Program {
             labels: Vec::new(),
             used_registers: Vec::new(),
             register_names: Vec::new(),
+            flat: vec![Op::Full],
         })
     }
 

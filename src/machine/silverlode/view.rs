@@ -502,4 +502,40 @@ impl Machine for SilverLode {
         let tick_limit = limit.tick.saturating_add(u64::from(limit.step > 0));
         self.run_fast(tick_limit, stop, observe)
     }
+
+    fn run_bare(&mut self, limit: Pos) -> StopReason {
+        SilverLode::run_to_tick(self, limit.tick.saturating_add(u64::from(limit.step > 0)))
+    }
+
+    /// Plain commands run in the fast loop until one would write a watched register; watching
+    /// anything but registers (a status word changes with every calculation) is not supported.
+    fn run_quiet(&mut self, limit: Pos, quiet: &mut crate::machine::Quiet) -> Option<StopReason> {
+        let mut guard = [0u64; 4];
+        for loc in &quiet.watched {
+            if loc.space != REGS || loc.index as usize >= REGISTERS {
+                return None;
+            }
+            guard[loc.index as usize >> 6] |= 1 << (loc.index & 63);
+        }
+        let tick_limit = limit.tick.saturating_add(u64::from(limit.step > 0));
+        let mut written = [0u64; 4];
+        let reason = loop {
+            if matches!(self.s.run, RunState::Ended | RunState::Faulted) {
+                break StopReason::Stopped;
+            }
+            if self.s.ticks >= tick_limit
+                || self.run_plain::<true>(tick_limit - self.s.ticks, &guard, &mut written) == 0
+            {
+                break StopReason::TickLimit;
+            }
+        };
+        for (word, mut bits) in written.into_iter().enumerate() {
+            while bits != 0 {
+                let bit = bits.trailing_zeros();
+                quiet.written.insert(reg(word as u32 * 64 + bit));
+                bits &= bits - 1;
+            }
+        }
+        Some(reason)
+    }
 }

@@ -1,0 +1,200 @@
+//! The fast paths are the slow ones, faster: SilverLode's pre-decoded loop leaves the machine
+//! exactly as the full executor does tick by tick, and a timeline recorded through the quiet
+//! loop holds exactly what one recorded tick by tick holds (trace, positions, checkpoints,
+//! "who wrote this?"), for random programs mixing plain commands with jumps, waits, moves,
+//! faults and edits.
+
+use std::sync::Arc;
+
+use proptest::prelude::*;
+use servoscope::debugger::history::{Change, Timeline, UserEvent};
+use servoscope::debugger::trace::Channel;
+use servoscope::machine::silverlode::{SilverLode, assemble, view::reg};
+use servoscope::machine::{Machine, Pos};
+
+const REGS: &[u8] = &[0, 1, 6, 10, 20, 21, 22, 23];
+
+fn register() -> impl Strategy<Value = u8> {
+    prop::sample::select(REGS)
+}
+
+fn data() -> impl Strategy<Value = i32> {
+    prop_oneof![
+        -3i32..4,
+        any::<i32>(),
+        prop::sample::select(vec![i32::MIN, i32::MAX, 0x7FFF_FFFF, 65536, 98304]),
+    ]
+}
+
+/// One line of a program with `lines` lines (jump targets are line labels).
+fn line(lines: usize) -> impl Strategy<Value = String> {
+    let ext = prop::sample::select(vec![
+        "ADD",
+        "SUB",
+        "AND",
+        "OR",
+        "XOR",
+        "MULT_S",
+        "MULT_U",
+        "MULT_S64_SHR16",
+        "DIV",
+        "MAX",
+    ]);
+    let clc = prop::sample::select(vec![
+        "ADD", "SUB", "MULT_S", "AND", "OR", "XOR", "INC", "DEC", "SHL", "COPY",
+    ]);
+    let cond = prop::sample::select(vec![
+        "",
+        ", ZERO",
+        ", !ZERO",
+        ", NEGATIVE",
+        ", !POSITIVE",
+        ", IO1",
+    ]);
+    prop_oneof![
+        6 => (ext.clone(), register(), register(), data())
+            .prop_map(|(op, r, a, d)| format!("CLD {op}, {r}, {a}, {d}")),
+        4 => (ext, register(), register(), register())
+            .prop_map(|(op, r, a, b)| format!("CLX {op}, {r}, {a}, {b}")),
+        4 => (clc, register()).prop_map(|(op, r)| format!("CLC {op}, {r}")),
+        4 => (0..lines, cond).prop_map(|(t, c)| format!("JMP l{t}{c}")),
+        1 => (register(), data()).prop_map(|(r, v)| format!("WRP {r}, {v}")),
+        1 => (1u32..5).prop_map(|n| format!("DLY {n}")),
+        1 => (-300i32..300).prop_map(|d| format!("MRV {d}, 3865, 67108864")),
+        1 => Just("WBS IO1".to_string()),
+    ]
+}
+
+fn program() -> impl Strategy<Value = String> {
+    (2usize..14)
+        .prop_flat_map(|n| prop::collection::vec(line(n), n))
+        .prop_map(|lines| {
+            let mut text: String = lines
+                .iter()
+                .enumerate()
+                .map(|(i, l)| format!("l{i}: {l}\n"))
+                .collect();
+            // Round and round, so runs last to their tick limits.
+            text.push_str("JMP l0\n");
+            text
+        })
+}
+
+fn machine(src: &str) -> SilverLode {
+    SilverLode::new(Arc::new(
+        assemble(src).expect("generated programs assemble"),
+    ))
+}
+
+fn channel(index: u32) -> Channel {
+    Channel {
+        loc: reg(index),
+        name: format!("R{index}"),
+        label: format!("R{index}"),
+        width: 32,
+        signed: true,
+        group: 0,
+        expr: None,
+    }
+}
+
+/// Input switches and register edits at these ticks.
+fn events() -> impl Strategy<Value = Vec<UserEvent>> {
+    prop::collection::vec((0u64..3000, any::<bool>(), register(), data()), 0..6).prop_map(|v| {
+        v.into_iter()
+            .map(|(tick, input, r, value)| UserEvent {
+                at: Pos::at_tick(tick),
+                loc: if input {
+                    servoscope::machine::silverlode::view::io(0)
+                } else {
+                    reg(u32::from(r))
+                },
+                change: if input {
+                    Change::Set(u64::from(tick % 2 == 0))
+                } else {
+                    Change::Set(u64::from(value as u32))
+                },
+            })
+            .collect()
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+
+    #[test]
+    fn the_fast_loop_leaves_the_machine_as_the_full_executor(
+        src in program(),
+        legs in prop::collection::vec(0u64..200, 1..30),
+    ) {
+        let mut fast = machine(&src);
+        let mut full = fast.clone();
+        let mut tick = 0;
+        for leg in legs {
+            tick += leg;
+            let fast_reason = fast.run_bare(Pos::at_tick(tick));
+            let full_reason = full.run_observed(Pos::at_tick(tick), |_| false, |_| {});
+            prop_assert_eq!(fast_reason, full_reason);
+            prop_assert_eq!(&fast, &full, "{} at tick {}", src, tick);
+        }
+    }
+
+    #[test]
+    fn a_quiet_recording_is_the_observed_recording(
+        src in program(),
+        events in events(),
+        plotted in prop::collection::vec(prop::sample::select(vec![0u32, 1, 6, 21, 22]), 1..4),
+        ticks in 1u64..40_000,
+    ) {
+        let channels: Vec<Channel> = plotted.iter().map(|&r| channel(r)).collect();
+        let start = machine(&src);
+        let mut quiet = Timeline::new(start.clone(), events.clone(), channels.clone());
+        let mut observed = Timeline::new(start, events, channels);
+        // In two legs, so the second begins where a quiet stretch may have ended.
+        let first = Pos::at_tick(ticks / 3);
+        prop_assert_eq!(quiet.forward_unstopped(first), observed.forward(first, |_| false));
+        let end = Pos::at_tick(ticks);
+        prop_assert_eq!(quiet.forward_unstopped(end), observed.forward(end, |_| false));
+        prop_assert_eq!(&quiet.machine, &observed.machine);
+        prop_assert_eq!(quiet.furthest(), observed.furthest());
+        prop_assert!(quiet.trace.samples().eq(observed.trace.samples()), "{}", src);
+        prop_assert_eq!(quiet.trace.end_tick(), observed.trace.end_tick());
+        let furthest = quiet.furthest();
+        for at in [furthest, Pos::at_tick(furthest.tick / 2), Pos::at_tick(17_000)] {
+            for &r in REGS {
+                prop_assert_eq!(
+                    quiet.find_write_back(at, reg(u32::from(r))),
+                    observed.find_write_back(at, reg(u32::from(r))),
+                    "R{} before {:?}", r, at
+                );
+            }
+            quiet.goto(at);
+            observed.goto(at);
+            prop_assert_eq!(&quiet.machine, &observed.machine);
+        }
+    }
+}
+
+#[test]
+fn a_write_that_ends_at_a_checkpoint_is_found_from_either_recording() {
+    // Around the first checkpoint (tick 16,384): the only write of R23 ends at its boundary.
+    for rounds in 8_185u64..8_196 {
+        // WRP in tick 0, two ticks a round, the add in tick 2 × rounds + 1.
+        let src = format!(
+            "WRP 20, {rounds}\nl1: CLD SUB, 20, 20, 1\nJMP l1, !ZERO\nCLD ADD, 23, 23, 5\nspin: JMP spin\n"
+        );
+        let start = machine(&src);
+        let mut quiet = Timeline::new(start.clone(), Vec::new(), vec![channel(0)]);
+        let mut observed = Timeline::new(start, Vec::new(), vec![channel(0)]);
+        quiet.forward_unstopped(Pos::at_tick(40_000));
+        observed.forward(Pos::at_tick(40_000), |_| false);
+        let before = Pos::at_tick(30_000);
+        let found = quiet.find_write_back(before, reg(23));
+        assert_eq!(
+            found,
+            observed.find_write_back(before, reg(23)),
+            "{rounds} rounds"
+        );
+        assert_eq!(found, Some(Pos::at_tick(2 * rounds + 2)), "{rounds} rounds");
+    }
+}
