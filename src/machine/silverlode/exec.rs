@@ -803,6 +803,10 @@ impl SilverLode {
                 }
                 Op::JmpIf { target, bit, want } => {
                     let taken = (isw >> bit & 1) as u8 == want;
+                    if !taken && pc + 2 == flat.len() {
+                        // Falling off the last command ends the program: the full executor's.
+                        break;
+                    }
                     last = LastExec {
                         pc: pc as u32,
                         vals: [i32::from(taken), 0, 0, 0],

@@ -325,8 +325,9 @@ impl Op {
 }
 
 /// The fast loop's form of `instrs`: a command becomes [`Op::Full`] when it could fault, end the
-/// program, wait, move, or write R0/R1 (the motion model's inputs); the last command of a
-/// program always is (running past it ends the program), and one `Full` follows the end.
+/// program, wait, move, or write R0/R1 (the motion model's inputs); so does the last command
+/// of a program unless it is a jump (running past it ends the program), and one `Full` follows
+/// the end.
 pub fn flatten(instrs: &[Instr]) -> Vec<Op> {
     let len = instrs.len() as u32;
     let mut flat: Vec<Op> = instrs
@@ -334,9 +335,11 @@ pub fn flatten(instrs: &[Instr]) -> Vec<Op> {
         .enumerate()
         .map(|(pc, &instr)| {
             let op = flat_op(instr, len);
+            // A conditional jump there falls through to the end: the fast loop hands that
+            // case over when it comes.
             let last = pc + 1 == instrs.len();
             let writes_motion = op.writes().is_some_and(|r| r <= 1);
-            if (last && !matches!(op, Op::Jmp { .. })) || writes_motion {
+            if (last && !matches!(op, Op::Jmp { .. } | Op::JmpIf { .. })) || writes_motion {
                 Op::Full
             } else {
                 op
