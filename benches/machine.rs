@@ -1,5 +1,6 @@
-//! Interpreter throughput. Commands per second = throughput reported by criterion
-//! ("elements/s"), one element per command (or per tick for the move).
+//! Interpreter throughput through each machine's fastest loop (`run_bare`, the headless
+//! runner's). Commands per second = throughput reported by criterion ("elements/s"), one
+//! element per command (or per tick for the move).
 //!
 //! `cargo bench --bench machine`
 
@@ -7,8 +8,8 @@ use std::hint::black_box;
 use std::sync::Arc;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use servoscope::machine::Machine;
 use servoscope::machine::silverlode::{SilverLode, assemble};
+use servoscope::machine::{Machine, Pos};
 
 const COMMANDS: u64 = 1_000_000;
 
@@ -59,7 +60,7 @@ fn benches(c: &mut Criterion) {
     group.bench_function("arithmetic loop (commands)", |b| {
         b.iter(|| {
             let mut m = start.clone();
-            m.run_until(COMMANDS, |_| false);
+            m.run_bare(Pos::at_tick(COMMANDS));
             black_box(m.reg(24))
         })
     });
@@ -71,7 +72,7 @@ fn benches(c: &mut Criterion) {
     group.bench_function("queue push/pop loop (commands)", |b| {
         b.iter(|| {
             let mut m = start.clone();
-            m.run_until(COMMANDS, |_| false);
+            m.run_bare(Pos::at_tick(COMMANDS));
             black_box(m.reg(14))
         })
     });
@@ -81,7 +82,7 @@ fn benches(c: &mut Criterion) {
     group.bench_function("long move (ticks)", |b| {
         b.iter(|| {
             let mut m = start.clone();
-            m.run_until(COMMANDS, |_| false);
+            m.run_bare(Pos::at_tick(COMMANDS));
             black_box(m.reg(1))
         })
     });
@@ -95,7 +96,7 @@ fn benches(c: &mut Criterion) {
     group.bench_function("arithmetic loop (statements)", |b| {
         b.iter(|| {
             let mut m = start.clone();
-            m.run_until(COMMANDS / 10, |_| false);
+            m.run_bare(Pos::at_tick(COMMANDS / 10));
             black_box(m.preg)
         })
     });
@@ -110,7 +111,7 @@ fn benches(c: &mut Criterion) {
     group.bench_function("100-instruction arithmetic scan with REP (scans)", |b| {
         b.iter(|| {
             let mut m = start.clone();
-            m.run_until(SCANS, |_| false);
+            m.run_bare(Pos::at_tick(SCANS));
             black_box(m.d[0])
         })
     });
@@ -124,7 +125,7 @@ fn benches(c: &mut Criterion) {
     group.bench_function("100-instruction math rung scan (scans)", |b| {
         b.iter(|| {
             let mut m = start.clone();
-            m.run_until(SCANS, |_| false);
+            m.run_bare(Pos::at_tick(SCANS));
             black_box(m.acc)
         })
     });

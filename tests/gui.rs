@@ -142,6 +142,44 @@ fn unlimited_run_keeps_frames_coming_and_pause_stops_it() {
 }
 
 #[test]
+fn the_window_runs_unlimited_between_frames_and_shows_the_rate() {
+    // The real window's frame: the run goes to the worker thread once a frame is drawn.
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1400.0, 900.0))
+        .build_ui_state(
+            |ui, app: &mut ServoscopeApp| app.frame(ui),
+            app_with("loop: CLC INC, 11\nJMP loop"),
+        );
+    h.run_steps(2);
+    h.state_mut().debugger.set_speed(Speed::Unlimited);
+    h.key_press(Key::F5);
+    let started = Instant::now();
+    while started.elapsed() < Duration::from_millis(900) {
+        h.step();
+        std::thread::sleep(Duration::from_millis(15));
+    }
+    h.get_by_label_contains("ticks/s (×");
+    h.get_by_label("Pause").click();
+    h.step();
+    assert!(!h.state().debugger.is_running());
+    let paused_at = h.state().debugger.machine().ticks();
+    assert!(
+        paused_at > 100_000,
+        "the worker ran between frames: {paused_at}"
+    );
+    assert_eq!(
+        h.state()
+            .debugger
+            .machine()
+            .read(h.state().debugger.find("R11").expect("R11")),
+        paused_at.div_ceil(2),
+        "the state shown is the state reached"
+    );
+    h.run_steps(3);
+    assert_eq!(h.state().debugger.machine().ticks(), paused_at);
+}
+
+#[test]
 fn typing_a_value_into_a_register() {
     let mut h = harness(app_with("WRP 20, 5\nEND"));
     h.get_by_label("R20").click();

@@ -81,9 +81,9 @@ pub fn status_bar(ui: &mut egui::Ui, debugger: &Debugger) {
 pub fn rate_text(ticks_per_second: f64, tick_micros: u32, ticks: &str) -> String {
     let real_time = ticks_per_second * f64::from(tick_micros) / 1e6;
     let rate = if ticks_per_second >= 1e6 {
-        format!("{:.1} M", ticks_per_second / 1e6)
+        format!("{:.1} M ", ticks_per_second / 1e6)
     } else if ticks_per_second >= 1e3 {
-        format!("{:.1} k", ticks_per_second / 1e3)
+        format!("{:.1} k ", ticks_per_second / 1e3)
     } else {
         format!("{ticks_per_second:.0} ")
     };
@@ -161,5 +161,23 @@ mod tests {
         assert_eq!(time_text(60_000_000), "0:01:00.000");
         // 70,600,000 ticks of 120 µs: the 8472000.000 ms.
         assert_eq!(time_text(70_600_000 * 120), "2:21:12.000");
+    }
+
+    #[test]
+    fn a_rate_reads_in_millions_and_as_a_factor_of_real_time() {
+        // 120 µs ticks: 250 M ticks/s simulate 30,000 s each second.
+        assert_eq!(
+            rate_text(250e6, 120, "ticks"),
+            "250.0 M ticks/s (×30,000 real time)"
+        );
+        // 1 ms scans: 2,500 a second are 2.5 × real time.
+        assert_eq!(
+            rate_text(2500.0, 1000, "scans"),
+            "2.5 k scans/s (×2.50 real time)"
+        );
+        assert_eq!(
+            rate_text(40.0, 1000, "scans"),
+            "40 scans/s (×0.04 real time)"
+        );
     }
 }
