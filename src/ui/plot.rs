@@ -120,7 +120,7 @@ fn ms_axis<'a>(tick_micros: f64) -> AxisHints<'a> {
     AxisHints::new_x()
         .label("time (ms)")
         .label_spacing(X_LABEL_SPACING)
-        .formatter(move |mark, _range| format!("{:.1}", mark.value * tick_micros / 1000.0))
+        .formatter(move |mark, _range| compact(mark.value * tick_micros / 1000.0))
 }
 
 /// Grid steps in a 1–2–5 sequence (egui_plot's default steps by 10, so a plot a few hundred
@@ -405,9 +405,11 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut PlotView, out: &m
         }
         plot = if last {
             let mut axes = vec![
+                // Nine-digit tick numbers side by side would run together: 100M, 200M.
                 AxisHints::new_x()
                     .label(ticks_word)
-                    .label_spacing(X_LABEL_SPACING),
+                    .label_spacing(X_LABEL_SPACING)
+                    .formatter(|mark, _range| compact(mark.value)),
             ];
             if both_axes {
                 axes.push(ms_axis(micros));
