@@ -198,3 +198,74 @@ fn a_write_that_ends_at_a_checkpoint_is_found_from_either_recording() {
         assert_eq!(found, Some(Pos::at_tick(2 * rounds + 2)), "{rounds} rounds");
     }
 }
+
+/// One TML statement of a program with `lines` labelled lines: 16-bit `i`, `j`; 32-bit `l`,
+/// `m` and the fixed `f`, mixed only where TML allows it.
+fn tml_line(lines: usize) -> impl Strategy<Value = String> {
+    let any = prop::sample::select(vec!["i", "j", "l", "m", "f"]);
+    let short = prop::sample::select(vec!["i", "j"]);
+    let long = prop::sample::select(vec!["l", "m", "f"]);
+    let add = prop::sample::select(vec!["+=", "-="]);
+    let cond = prop::sample::select(vec!["EQ", "NEQ", "LT", "LEQ", "GT", "GEQ"]);
+    prop_oneof![
+        2 => (short.clone(), -32_768i64..32_767).prop_map(|(v, n)| format!("{v} = {n};")),
+        2 => (long.clone(), -32_768i64..32_767).prop_map(|(v, n)| format!("{v} = {n};")),
+        2 => (short.clone(), short.clone()).prop_map(|(a, b)| format!("{a} = {b};")),
+        2 => (long.clone(), long.clone()).prop_map(|(a, b)| format!("{a} = {b};")),
+        3 => (short.clone(), add.clone(), -3_000i64..3_000)
+            .prop_map(|(v, op, n)| format!("{v} {op} {n};")),
+        3 => (long.clone(), add.clone(), -32_768i64..32_767)
+            .prop_map(|(v, op, n)| format!("{v} {op} {n};")),
+        2 => (short.clone(), add.clone(), short.clone())
+            .prop_map(|(a, op, b)| format!("{a} {op} {b};")),
+        3 => (long.clone(), add, any.clone()).prop_map(|(a, op, b)| format!("{a} {op} {b};")),
+        2 => (any.clone(), prop::sample::select(vec!["<<=", ">>="]), 0u8..16)
+            .prop_map(|(v, op, n)| format!("{v} {op} {n};")),
+        2 => (any.clone(), short.clone(), prop::sample::select(vec!["<<", ">>"]), 0u8..12)
+            .prop_map(|(a, b, op, n)| format!("{a} * {b} {op} {n};")),
+        1 => long.prop_map(|v| format!("{v} = PRODH;")),
+        1 => Just("f += 0.5;".to_string()),
+        2 => (prop::sample::select(vec!["f", "l"]), short.clone()).prop_map(|(a, b)| format!("{a} /= {b};")),
+        3 => (0..lines, any, cond).prop_map(|(t, v, c)| format!("GOTO l{t}, {v}, {c};")),
+        1 => (0..lines).prop_map(|t| format!("GOTO l{t};")),
+    ]
+}
+
+fn tml_program() -> impl Strategy<Value = String> {
+    (2usize..14)
+        .prop_flat_map(|n| prop::collection::vec(tml_line(n), n))
+        .prop_map(|lines| {
+            let mut text = String::from("int i; int j; long l; long m; fixed f;\n");
+            for (i, l) in lines.iter().enumerate() {
+                text.push_str(&format!("l{i}: {l}\n"));
+            }
+            text.push_str("GOTO l0;\n");
+            text
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+
+    #[test]
+    fn the_tml_fast_loop_leaves_the_drive_as_the_full_executor(
+        src in tml_program(),
+        legs in prop::collection::vec((0u64..40, 0u32..10), 1..30),
+    ) {
+        let start = servoscope::machine::tml::dialect::machine(&src);
+        // The generator keeps to TML's width rules; a form it gets wrong is skipped, not failed.
+        prop_assume!(start.is_ok());
+        let Ok(start) = start else { return Ok(()) };
+        let mut fast = start.clone();
+        let mut full = start;
+        let mut tick = 0;
+        for (ticks, step) in legs {
+            tick += ticks;
+            let to = Pos { tick, step };
+            let fast_reason = fast.run_bare(to);
+            let full_reason = full.run_observed(to, |_| false, |_| {});
+            prop_assert_eq!(fast_reason, full_reason);
+            prop_assert!(fast == full, "{} at {:?}", src, to);
+        }
+    }
+}

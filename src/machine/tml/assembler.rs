@@ -986,6 +986,7 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
     let mut used_inputs = names.used_inputs;
     used_inputs.sort_unstable();
     Ok(Program {
+        flat: super::program::flatten(&stmts),
         stmts,
         vars: names.vars,
         labels,

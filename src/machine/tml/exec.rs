@@ -1,7 +1,7 @@
 //! Running TML: one statement at a time inside a tick's instruction phase, then the motion,
 //! time and event phases of spec §3.
 
-use super::program::{AddKind, Data, EventSpec, Op, Operand, Value};
+use super::program::{AddKind, Data, EventSpec, Flat, Op, Operand, Slot, Value};
 use super::{
     Event, Fault, LastMultiply, PREG_MASK, STACK_DEPTH, STATEMENTS_PER_TICK, Tml, d, der, mer, srl,
 };
@@ -342,6 +342,183 @@ impl Tml {
 
     pub fn is_live(&self) -> bool {
         !self.ended && self.fault.is_none()
+    }
+
+    /// Run plain statements ([`Flat`]: user variables, immediates, the product register and
+    /// jumps) exactly as `execute` and `run_loop` would, at most `max` of them, finishing each
+    /// tick as its instruction phase fills. Stops before a statement the full executor must
+    /// run. Returns how many ran.
+    fn run_plain(&mut self, max: u64) -> u64 {
+        if !self.is_live() || self.wait_since.is_some() {
+            return 0;
+        }
+        let len = self.program.flat.len();
+        let mut n = 0;
+        while n < max {
+            let index = self.pc as usize;
+            let Some(&op) = self.program.flat.get(index) else {
+                break;
+            };
+            let vars = &mut self.vars[..];
+            let read = |vars: &[u32], s: Slot| -> i64 {
+                i64::from(((vars.get(s.var as usize).copied().unwrap_or(0) << s.shift) as i32) >> s.shift)
+            };
+            let store = |vars: &mut [u32], s: Slot, v: i64| {
+                if let Some(slot) = vars.get_mut(s.var as usize) {
+                    *slot = v as u32 & (u32::MAX >> s.shift);
+                }
+            };
+            let mut next = self.pc + 1;
+            let vals = match op {
+                Flat::SetImm { dst, v } => {
+                    store(vars, dst, v);
+                    [v, 0, read(vars, dst)]
+                }
+                Flat::Copy { dst, src } => {
+                    let v = read(vars, src);
+                    store(vars, dst, v);
+                    [v, 0, read(vars, dst)]
+                }
+                Flat::AddImm {
+                    dst,
+                    delta,
+                    subtract,
+                } => {
+                    let old = read(vars, dst);
+                    let result = if subtract {
+                        old.wrapping_sub(delta)
+                    } else {
+                        old.wrapping_add(delta)
+                    };
+                    store(vars, dst, result);
+                    [old, delta, read(vars, dst)]
+                }
+                Flat::Add {
+                    dst,
+                    src,
+                    scale,
+                    subtract,
+                } => {
+                    let old = read(vars, dst);
+                    let delta = read(vars, src) * scale;
+                    let result = if subtract {
+                        old.wrapping_sub(delta)
+                    } else {
+                        old.wrapping_add(delta)
+                    };
+                    store(vars, dst, result);
+                    [old, delta, read(vars, dst)]
+                }
+                Flat::Shift { dst, left, n } => {
+                    let old = read(vars, dst);
+                    store(vars, dst, Self::shifted(old, left, n));
+                    [old, i64::from(n), read(vars, dst)]
+                }
+                Flat::CopyProduct { dst, high } => {
+                    let raw = if high { self.preg >> 16 } else { self.preg };
+                    let v = i64::from(raw as u32 as i32);
+                    store(vars, dst, v);
+                    [v, 0, read(vars, dst)]
+                }
+                Flat::Div {
+                    dst,
+                    divisor,
+                    fixed,
+                } => {
+                    let old = read(vars, dst);
+                    let n = if fixed {
+                        i128::from(old)
+                    } else {
+                        i128::from(old) * 65536
+                    };
+                    let dv = read(vars, divisor);
+                    let q = if dv == 0 {
+                        if n >= 0 {
+                            i128::from(i32::MAX)
+                        } else {
+                            i128::from(i32::MIN)
+                        }
+                    } else {
+                        (n / i128::from(dv)).clamp(i128::from(i32::MIN), i128::from(i32::MAX))
+                    };
+                    store(vars, dst, q as i64);
+                    [old, dv, q as i64]
+                }
+                Flat::MulImm { a, b, left, n } => {
+                    let va = read(vars, a);
+                    self.multiply(index, va, b, left, n)
+                }
+                Flat::Mul { a, b, left, n } => {
+                    let (va, vb) = (read(vars, a), read(vars, b));
+                    self.multiply(index, va, vb, left, n)
+                }
+                Flat::Goto { target } => {
+                    next = target;
+                    [0, 1, 0]
+                }
+                Flat::GotoIf { target, x, cond } => {
+                    let v = read(vars, x);
+                    let taken = cond.holds(v);
+                    if !taken && index + 1 == len {
+                        // Falling off the last statement ends the program: the full executor's.
+                        break;
+                    }
+                    if taken {
+                        next = target;
+                    }
+                    [v, i64::from(taken), 0]
+                }
+                Flat::Full => break,
+            };
+            self.last = Some(index as u32);
+            self.last_vals = vals;
+            self.pc = next;
+            self.steps += 1;
+            self.step += 1;
+            n += 1;
+            if self.step >= STATEMENTS_PER_TICK {
+                self.finish_tick();
+            }
+        }
+        n
+    }
+
+    fn multiply(&mut self, index: usize, va: i64, vb: i64, left: bool, n: u8) -> [i64; 3] {
+        let product = i128::from(va) * i128::from(vb);
+        let shifted = if left { product << n } else { product >> n };
+        self.preg = (shifted as u64) & PREG_MASK;
+        self.last_multiply = Some(LastMultiply {
+            line: self.program.stmts.get(index).map_or(0, |s| s.line),
+            a: va,
+            b: vb,
+            left,
+            shift: n,
+            product,
+        });
+        [va, vb, self.preg_signed()]
+    }
+
+    /// Run to `limit` with nothing asked and nothing observed: plain statements in the fast
+    /// loop, the rest one at a time.
+    pub fn run_bare_to(&mut self, limit: Pos) -> StopReason {
+        loop {
+            if !self.is_live() {
+                return StopReason::Stopped;
+            }
+            let now = self.pos();
+            if now >= limit {
+                return StopReason::TickLimit;
+            }
+            // Every tick has its full instruction phase while only plain statements run.
+            let left = (limit.tick - now.tick)
+                .saturating_mul(u64::from(STATEMENTS_PER_TICK))
+                .saturating_add(u64::from(limit.step))
+                .saturating_sub(u64::from(now.step));
+            if self.run_plain(left) == 0 {
+                let next = self.steps + 1;
+                self.run_loop(limit, |m| m.steps >= next, |_| {});
+            }
+        }
     }
 
     /// Run until `limit`, a stop, or `stop` asks before a statement starts.

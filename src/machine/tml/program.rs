@@ -195,8 +195,150 @@ pub struct Var {
     pub line: usize,
 }
 
+/// A user variable as the fast loop reads it: `((raw << shift) as i32 >> shift)` is the signed
+/// value of a 16-bit variable (`shift` 16) or a 32-bit one (`shift` 0), and a store keeps the
+/// low `32 − shift` bits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Slot {
+    pub var: u16,
+    pub shift: u8,
+}
+
+impl Slot {
+    /// A whole user variable (not a half, not predefined data).
+    fn of(op: &Operand) -> Option<Slot> {
+        match (op.data, op.half) {
+            (Data::Var(var), None) => Some(Slot {
+                var,
+                shift: 32 - op.ty.bits(),
+            }),
+            _ => None,
+        }
+    }
+}
+
+/// A statement as the fast loop dispatches on it: one match, operands resolved to user
+/// variables and immediates. Everything that touches predefined data, halves, the product
+/// register's halves, the stack, motion, events or the end is [`Flat::Full`] and runs through
+/// the full executor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Flat {
+    SetImm { dst: Slot, v: i64 },
+    Copy { dst: Slot, src: Slot },
+    /// `dst ± delta` (`delta` already scaled for an integer part).
+    AddImm { dst: Slot, delta: i64, subtract: bool },
+    Add { dst: Slot, src: Slot, scale: i64, subtract: bool },
+    Shift { dst: Slot, left: bool, n: u8 },
+    /// `dst = PROD` (`high` false) or `dst = PRODH`.
+    CopyProduct { dst: Slot, high: bool },
+    /// `dst /= divisor`; `fixed` when `dst` is a fixed (no scaling of the dividend).
+    Div { dst: Slot, divisor: Slot, fixed: bool },
+    MulImm { a: Slot, b: i64, left: bool, n: u8 },
+    Mul { a: Slot, b: Slot, left: bool, n: u8 },
+    Goto { target: u32 },
+    GotoIf { target: u32, x: Slot, cond: Cond },
+    Full,
+}
+
+/// The fast loop's form of `stmts`, one [`Flat`] each: a jump to or past the end, and the last
+/// statement unless it jumps, are `Full` (the full executor ends the program).
+pub fn flatten(stmts: &[Stmt]) -> Vec<Flat> {
+    let len = stmts.len() as u32;
+    stmts
+        .iter()
+        .enumerate()
+        .map(|(i, stmt)| {
+            let flat = flat_stmt(&stmt.op, len);
+            let last = i + 1 == stmts.len();
+            if last && !matches!(flat, Flat::Goto { .. } | Flat::GotoIf { .. }) {
+                Flat::Full
+            } else {
+                flat
+            }
+        })
+        .collect()
+}
+
+fn flat_stmt(op: &Op, len: u32) -> Flat {
+    let full = || Flat::Full;
+    match *op {
+        Op::Assign(dst, Value::Imm(v)) => Slot::of(&dst).map_or_else(full, |dst| Flat::SetImm { dst, v }),
+        Op::Assign(dst, Value::Var(src)) => match (Slot::of(&dst), Slot::of(&src), src.data) {
+            (Some(dst), Some(src), _) => Flat::Copy { dst, src },
+            (Some(dst), None, Data::Pre(p))
+                if src.half.is_none()
+                    && src.ty.bits() == 32
+                    && (p == super::d::PROD || p == super::d::PRODH) =>
+            {
+                Flat::CopyProduct {
+                    dst,
+                    high: p == super::d::PRODH,
+                }
+            }
+            _ => Flat::Full,
+        },
+        Op::Divide(dst, divisor) => match (Slot::of(&dst), Slot::of(&divisor)) {
+            (Some(slot), Some(divisor)) => Flat::Div {
+                dst: slot,
+                divisor,
+                fixed: dst.is_fixed(),
+            },
+            _ => Flat::Full,
+        },
+        Op::Add {
+            dst,
+            src,
+            kind,
+            subtract,
+        } => {
+            let scale = if kind == AddKind::IntegerPart { 65536 } else { 1 };
+            match (Slot::of(&dst), src) {
+                (Some(dst), Value::Imm(v)) => v.checked_mul(scale).map_or(Flat::Full, |delta| {
+                    Flat::AddImm {
+                        dst,
+                        delta,
+                        subtract,
+                    }
+                }),
+                (Some(dst), Value::Var(src)) => Slot::of(&src).map_or(Flat::Full, |src| {
+                    Flat::Add {
+                        dst,
+                        src,
+                        scale,
+                        subtract,
+                    }
+                }),
+                _ => Flat::Full,
+            }
+        }
+        Op::Shift { dst, left, n } if n < 64 => {
+            Slot::of(&dst).map_or_else(full, |dst| Flat::Shift { dst, left, n })
+        }
+        Op::Multiply { a, b, left, n } if n < 64 => match (Slot::of(&a), b) {
+            (Some(a), Value::Imm(b)) => Flat::MulImm { a, b, left, n },
+            (Some(a), Value::Var(b)) => {
+                Slot::of(&b).map_or(Flat::Full, |b| Flat::Mul { a, b, left, n })
+            }
+            _ => Flat::Full,
+        },
+        Op::Jump {
+            target,
+            call: false,
+            cond,
+        } if target < len => match cond {
+            None => Flat::Goto { target },
+            Some((x, cond)) => {
+                Slot::of(&x).map_or(Flat::Full, |x| Flat::GotoIf { target, x, cond })
+            }
+        },
+        _ => Flat::Full,
+    }
+}
+
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Program {
+    /// `stmts` pre-decoded for the fast loop.
+    pub flat: Vec<Flat>,
     pub stmts: Vec<Stmt>,
     pub vars: Vec<Var>,
     pub labels: Vec<(String, u32)>,

@@ -485,6 +485,10 @@ impl Machine for Tml {
     ) -> StopReason {
         self.run_loop(limit, stop, observe)
     }
+
+    fn run_bare(&mut self, limit: Pos) -> StopReason {
+        self.run_bare_to(limit)
+    }
 }
 
 /// Error bits a view highlights.
