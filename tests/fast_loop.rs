@@ -10,7 +10,7 @@ use proptest::prelude::*;
 use servoscope::debugger::history::{Change, Timeline, UserEvent};
 use servoscope::debugger::trace::Channel;
 use servoscope::machine::silverlode::{SilverLode, assemble, view::reg};
-use servoscope::machine::{Machine, Pos};
+use servoscope::machine::{Machine, MachineView, Pos};
 
 const REGS: &[u8] = &[0, 1, 6, 10, 20, 21, 22, 23];
 
@@ -266,6 +266,63 @@ proptest! {
             let full_reason = full.run_observed(to, |_| false, |_| {});
             prop_assert_eq!(fast_reason, full_reason);
             prop_assert!(fast == full, "{} at {:?}", src, to);
+        }
+    }
+}
+
+/// A plot channel of the location `name` of `m`.
+fn channel_named(m: &dyn MachineView, name: &str) -> Channel {
+    let loc = m.find(name).unwrap_or_else(|| panic!("{name} exists"));
+    let info = m.info(loc).expect("a location has its description");
+    Channel {
+        loc,
+        name: name.to_string(),
+        label: name.to_string(),
+        width: info.width,
+        signed: info.signed,
+        group: 0,
+        expr: None,
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    #[test]
+    fn a_quiet_tml_recording_is_the_observed_recording(
+        src in tml_program(),
+        plotted in prop::collection::vec(prop::sample::select(vec!["TPOS", "APOS", "i", "l", "f", "PROD"]), 1..4),
+        ticks in 1u64..20_000,
+        step in 0u32..10,
+    ) {
+        let start = servoscope::machine::tml::dialect::machine(&src);
+        prop_assume!(start.is_ok());
+        let Ok(start) = start else { return Ok(()) };
+        let channels: Vec<Channel> = plotted.iter().map(|n| channel_named(&start, n)).collect();
+        let mut quiet = Timeline::new(start.clone(), Vec::new(), channels.clone());
+        let mut observed = Timeline::new(start, Vec::new(), channels);
+        // The first leg ends inside a tick, so the second begins there.
+        let first = Pos { tick: ticks / 3, step };
+        prop_assert_eq!(quiet.forward_unstopped(first), observed.forward(first, |_| false));
+        let end = Pos::at_tick(ticks);
+        prop_assert_eq!(quiet.forward_unstopped(end), observed.forward(end, |_| false));
+        prop_assert!(quiet.machine == observed.machine);
+        prop_assert_eq!(quiet.furthest(), observed.furthest());
+        prop_assert!(quiet.trace.samples().eq(observed.trace.samples()), "{}", src);
+        prop_assert_eq!(quiet.trace.end_tick(), observed.trace.end_tick());
+        let furthest = quiet.furthest();
+        for at in [furthest, Pos::at_tick(furthest.tick / 2), Pos::at_tick(17_000)] {
+            for name in ["i", "j", "l", "m", "f", "PROD"] {
+                let loc = quiet.machine.find(name).expect("declared");
+                prop_assert_eq!(
+                    quiet.find_write_back(at, loc),
+                    observed.find_write_back(at, loc),
+                    "{} before {:?}", name, at
+                );
+            }
+            quiet.goto(at);
+            observed.goto(at);
+            prop_assert!(quiet.machine == observed.machine);
         }
     }
 }

@@ -310,6 +310,13 @@ impl<M: Machine> Timeline<M> {
                 if let Some(last) = self.written.last_mut() {
                     last.union(std::mem::take(&mut quiet.written));
                 }
+                // Only the last tick run may have changed a plotted value.
+                if reached > now && reached.step == 0 {
+                    let mut values = [0i64; super::trace::MAX_CHANNELS];
+                    sample(&self.machine, &self.channels, &mut values);
+                    self.trace
+                        .record(reached.tick, &values[..self.channels.len()]);
+                }
                 self.trace.extend_to(reached.tick);
                 self.furthest = self.furthest.max(reached);
                 if reached == checkpoint_due

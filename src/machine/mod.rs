@@ -457,11 +457,11 @@ pub trait Machine: MachineView + Clone + PartialEq {
         self.run_observed(limit, |_| false, |_| {})
     }
 
-    /// Run towards `limit` while no location of `quiet.watched` can change, adding the
-    /// locations written to `quiet.written`: how a timeline records a stretch in which its trace
-    /// holds still, without a look at every tick. May stop short of `limit` (with `TickLimit`)
-    /// before a tick that needs looking at; `None` when the dialect has no such loop for these
-    /// locations, and every tick is then observed.
+    /// Run towards `limit` while no location of `quiet.watched` changes, except in the last
+    /// tick run, adding the locations written to `quiet.written`: how a timeline records a
+    /// stretch in which its trace holds still, without a look at every tick (it samples the
+    /// end). May stop short of `limit` (with `TickLimit`) where a tick needs looking at; `None`
+    /// when the dialect has no such loop for these locations, and every tick is then observed.
     fn run_quiet(&mut self, _limit: Pos, _quiet: &mut Quiet) -> Option<StopReason> {
         None
     }

@@ -5,7 +5,7 @@ use super::program::{AddKind, Data, EventSpec, Flat, Op, Operand, Slot, Value};
 use super::{
     Event, Fault, LastMultiply, PREG_MASK, STACK_DEPTH, STATEMENTS_PER_TICK, Tml, d, der, mer, srl,
 };
-use crate::machine::{MachineView, Pos, StopReason};
+use crate::machine::{MachineView, Pos, Quiet, StopReason, WriteSet};
 
 /// What one statement did.
 enum Outcome {
@@ -348,7 +348,15 @@ impl Tml {
     /// jumps) exactly as `execute` and `run_loop` would, at most `max` of them, finishing each
     /// tick as its instruction phase fills. Stops before a statement the full executor must
     /// run. Returns how many ran.
-    fn run_plain(&mut self, max: u64) -> u64 {
+    ///
+    /// `written` (when given) gets the locations written at every boundary, as the timeline
+    /// notes them; `tick_done` is asked after each tick and ends the run when it says so.
+    fn run_plain<T: FnMut(&Self) -> bool>(
+        &mut self,
+        max: u64,
+        mut written: Option<&mut WriteSet>,
+        mut tick_done: T,
+    ) -> u64 {
         if !self.is_live() || self.wait_since.is_some() {
             return 0;
         }
@@ -476,11 +484,54 @@ impl Tml {
             self.steps += 1;
             self.step += 1;
             n += 1;
-            if self.step >= STATEMENTS_PER_TICK {
+            let tick_over = self.step >= STATEMENTS_PER_TICK;
+            if tick_over {
                 self.finish_tick();
+            }
+            if let Some(set) = written.as_deref_mut() {
+                self.note_writes(set);
+            }
+            if tick_over && tick_done(self) {
+                break;
             }
         }
         n
+    }
+
+    /// [`crate::machine::Machine::run_quiet`]: whole ticks in the fast loop, each compared at
+    /// its end with the watched values the run began with; the run stops after the first tick
+    /// that changed one (the timeline samples it), before a statement the fast loop cannot
+    /// run, or at the last tick boundary before `limit`.
+    pub fn run_quiet_to(&mut self, limit: Pos, quiet: &mut Quiet) -> StopReason {
+        let limit = Pos::at_tick(limit.tick);
+        if self.step != 0 {
+            return StopReason::TickLimit;
+        }
+        let held: Vec<u64> = quiet.watched.iter().map(|&loc| self.read(loc)).collect();
+        let mut changed = false;
+        loop {
+            if !self.is_live() {
+                return StopReason::Stopped;
+            }
+            let now = self.pos();
+            if now >= limit || changed {
+                return StopReason::TickLimit;
+            }
+            let left = (limit.tick - now.tick).saturating_mul(u64::from(STATEMENTS_PER_TICK));
+            let ran = self.run_plain(left, Some(&mut quiet.written), |m| {
+                changed = quiet
+                    .watched
+                    .iter()
+                    .zip(&held)
+                    .any(|(&loc, &was)| m.read(loc) != was);
+                changed
+            });
+            // A run that ends inside a tick (a statement the fast loop hands over) is finished
+            // by the timeline, observed.
+            if ran == 0 || self.step != 0 {
+                return StopReason::TickLimit;
+            }
+        }
     }
 
     fn multiply(&mut self, index: usize, va: i64, vb: i64, left: bool, n: u8) -> [i64; 3] {
@@ -514,7 +565,7 @@ impl Tml {
                 .saturating_mul(u64::from(STATEMENTS_PER_TICK))
                 .saturating_add(u64::from(limit.step))
                 .saturating_sub(u64::from(now.step));
-            if self.run_plain(left) == 0 {
+            if self.run_plain(left, None, |_| false) == 0 {
                 let next = self.steps + 1;
                 self.run_loop(limit, |m| m.steps >= next, |_| {});
             }

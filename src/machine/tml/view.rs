@@ -489,6 +489,10 @@ impl Machine for Tml {
     fn run_bare(&mut self, limit: Pos) -> StopReason {
         self.run_bare_to(limit)
     }
+
+    fn run_quiet(&mut self, limit: Pos, quiet: &mut crate::machine::Quiet) -> Option<StopReason> {
+        Some(self.run_quiet_to(limit, quiet))
+    }
 }
 
 /// Error bits a view highlights.
