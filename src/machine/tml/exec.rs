@@ -360,6 +360,10 @@ impl Tml {
         if !self.is_live() || self.wait_since.is_some() {
             return 0;
         }
+        if let Some(set) = written.as_deref_mut() {
+            // What the timeline notes at the first boundary; later ones are noted below.
+            self.note_writes(set);
+        }
         let len = self.program.flat.len();
         let mut n = 0;
         while n < max {
@@ -489,7 +493,12 @@ impl Tml {
                 self.finish_tick();
             }
             if let Some(set) = written.as_deref_mut() {
-                self.note_writes(set);
+                // As `note_writes` would at this boundary: the statement's destination, and
+                // the motion data while the profile moves (only a tick's end changes that).
+                note_flat_writes(op, set);
+                if tick_over {
+                    self.note_motion(set);
+                }
             }
             if tick_over && tick_done(self) {
                 break;
@@ -615,5 +624,26 @@ impl super::Profile {
     /// ⌊x / 65536⌋ without wrapping, as the relative end of UPD needs it.
     pub fn position_unwrapped(&self) -> i64 {
         (self.x >> 16) as i64
+    }
+}
+
+/// The locations a plain statement writes.
+fn note_flat_writes(op: Flat, set: &mut WriteSet) {
+    use super::view::{DATA, PREG_INDEX, VARS, data_loc};
+    use crate::machine::Loc;
+    match op {
+        Flat::SetImm { dst, .. }
+        | Flat::Copy { dst, .. }
+        | Flat::AddImm { dst, .. }
+        | Flat::Add { dst, .. }
+        | Flat::Shift { dst, .. }
+        | Flat::CopyProduct { dst, .. }
+        | Flat::Div { dst, .. } => set.insert(Loc::new(VARS, u32::from(dst.var))),
+        Flat::MulImm { .. } | Flat::Mul { .. } => {
+            set.insert(Loc::new(DATA, PREG_INDEX));
+            set.insert(data_loc(d::PROD));
+            set.insert(data_loc(d::PRODH));
+        }
+        Flat::Goto { .. } | Flat::GotoIf { .. } | Flat::Full => {}
     }
 }

@@ -176,12 +176,21 @@ impl Tml {
                 _ => {}
             }
         }
+        self.each_motion_written(f);
+    }
+
+    /// The motion data a tick's end writes while the profile moves.
+    fn each_motion_written<F: FnMut(Loc)>(&self, f: F) {
         if self.profile.active || self.data[d::ASPD as usize] != 0 {
             [d::TPOS, d::TSPD, d::APOS, d::ASPD, d::POSERR]
                 .into_iter()
                 .map(data_loc)
                 .for_each(f);
         }
+    }
+
+    pub(super) fn note_motion(&self, set: &mut crate::machine::WriteSet) {
+        self.each_motion_written(|loc| set.insert(loc));
     }
 }
 
