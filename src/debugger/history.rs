@@ -15,6 +15,8 @@ use super::trace::{Channel, Trace};
 use crate::machine::{Loc, Machine, MachineView, Pos, Quiet, StopReason, WriteError, WriteSet};
 
 pub const CHECKPOINT_EVERY: u64 = 16_384;
+/// Ticks a quiet stretch must reach for the timeline to keep asking for quiet ones at once.
+const QUIET_WORTH: u64 = 256;
 
 /// What an edit does to its location.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -331,7 +333,8 @@ impl<M: Machine> Timeline<M> {
                 if reason != StopReason::TickLimit {
                     return reason;
                 }
-                reached > now
+                // A few ticks between moves are not worth the switching back and forth.
+                reached >= until || reached.tick >= now.tick.saturating_add(QUIET_WORTH)
             } else {
                 false
             };

@@ -78,7 +78,7 @@ impl SilverLode {
     }
 
     /// One tick. Returns false when the machine was not live (nothing happened).
-    #[inline]
+    #[inline(always)]
     pub fn tick(&mut self) -> bool {
         match self.s.run {
             RunState::Running => {
