@@ -361,17 +361,7 @@ impl Debugger {
         };
         self.rate.note(self.pos().tick);
         if let Some(reason) = back {
-            return match reason {
-                StopReason::Stopped => {
-                    self.after_stop(Event::Stepped);
-                    false
-                }
-                StopReason::Predicate => {
-                    self.reached(goal);
-                    false
-                }
-                StopReason::TickLimit => true,
-            };
+            return self.settle(goal, reason);
         }
         if !self.machine().run_state().is_live() {
             self.after_stop(Event::Stepped);
@@ -597,7 +587,13 @@ impl Debugger {
             on_error: self.break_on_error && !self.machine().error_lamp(),
             ..StopWhen::default()
         };
-        match self.engine.forward(target, &stop) {
+        let reason = self.engine.forward(target, &stop);
+        self.settle(goal, reason)
+    }
+
+    /// What a stretch of a run ended with: stopped (false) or still running (true).
+    fn settle(&mut self, goal: Goal, reason: StopReason) -> bool {
+        match reason {
             StopReason::Stopped => {
                 self.after_stop(Event::Stepped);
                 false

@@ -141,19 +141,10 @@ impl Tml {
             }
             Op::Divide(dst, divisor) => {
                 let old = self.read_operand(&dst);
-                let n = if dst.is_fixed() {
-                    i128::from(old)
-                } else {
-                    i128::from(old) * 65536
-                };
                 let dv = self.read_operand(&divisor);
-                let q = if dv == 0 {
-                    if n >= 0 { i128::from(i32::MAX) } else { i128::from(i32::MIN) }
-                } else {
-                    (n / i128::from(dv)).clamp(i128::from(i32::MIN), i128::from(i32::MAX))
-                };
-                self.store(&dst, q as i64);
-                vals = [old, dv, q as i64];
+                let q = quotient(old, dv, dst.is_fixed());
+                self.store(&dst, q);
+                vals = [old, dv, q];
             }
             Op::Shift { dst, left, n } => {
                 let old = self.read_operand(&dst);
@@ -391,28 +382,22 @@ impl Tml {
                     store(vars, dst, v);
                     [v, 0, read(vars, dst)]
                 }
-                Flat::AddImm {
-                    dst,
-                    delta,
-                    subtract,
-                } => {
-                    let old = read(vars, dst);
-                    let result = if subtract {
-                        old.wrapping_sub(delta)
-                    } else {
-                        old.wrapping_add(delta)
+                Flat::AddImm { .. } | Flat::Add { .. } => {
+                    let (dst, delta, subtract) = match op {
+                        Flat::Add {
+                            dst,
+                            src,
+                            scale,
+                            subtract,
+                        } => (dst, read(vars, src) * scale, subtract),
+                        Flat::AddImm {
+                            dst,
+                            delta,
+                            subtract,
+                        } => (dst, delta, subtract),
+                        _ => break,
                     };
-                    store(vars, dst, result);
-                    [old, delta, read(vars, dst)]
-                }
-                Flat::Add {
-                    dst,
-                    src,
-                    scale,
-                    subtract,
-                } => {
                     let old = read(vars, dst);
-                    let delta = read(vars, src) * scale;
                     let result = if subtract {
                         old.wrapping_sub(delta)
                     } else {
@@ -437,24 +422,10 @@ impl Tml {
                     divisor,
                     fixed,
                 } => {
-                    let old = read(vars, dst);
-                    let n = if fixed {
-                        i128::from(old)
-                    } else {
-                        i128::from(old) * 65536
-                    };
-                    let dv = read(vars, divisor);
-                    let q = if dv == 0 {
-                        if n >= 0 {
-                            i128::from(i32::MAX)
-                        } else {
-                            i128::from(i32::MIN)
-                        }
-                    } else {
-                        (n / i128::from(dv)).clamp(i128::from(i32::MIN), i128::from(i32::MAX))
-                    };
-                    store(vars, dst, q as i64);
-                    [old, dv, q as i64]
+                    let (old, dv) = (read(vars, dst), read(vars, divisor));
+                    let q = quotient(old, dv, fixed);
+                    store(vars, dst, q);
+                    [old, dv, q]
                 }
                 Flat::MulImm { a, b, left, n } => {
                     let va = read(vars, a);
@@ -646,4 +617,25 @@ fn note_flat_writes(op: Flat, set: &mut WriteSet) {
         }
         Flat::Goto { .. } | Flat::GotoIf { .. } | Flat::Full => {}
     }
+}
+
+/// `dst /= divisor` (spec §5.4): a fixed dividend as is, an integer one as its value × 65536;
+/// the quotient saturates to 32 bits, and a zero divisor gives the saturated value of the
+/// dividend's sign.
+fn quotient(old: i64, divisor: i64, fixed: bool) -> i64 {
+    let n = if fixed {
+        i128::from(old)
+    } else {
+        i128::from(old) * 65536
+    };
+    let q = if divisor == 0 {
+        if n >= 0 {
+            i128::from(i32::MAX)
+        } else {
+            i128::from(i32::MIN)
+        }
+    } else {
+        (n / i128::from(divisor)).clamp(i128::from(i32::MIN), i128::from(i32::MAX))
+    };
+    q as i64
 }
