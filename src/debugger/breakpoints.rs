@@ -339,6 +339,7 @@ impl Checker {
         false
     }
 
+    #[inline]
     fn check_data<M: MachineView + ?Sized>(&mut self, m: &M) -> bool {
         let mut fired = None;
         for d in &mut self.data {
