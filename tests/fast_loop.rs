@@ -326,3 +326,73 @@ proptest! {
         }
     }
 }
+
+/// Run to `end`, stopping before an instruction on `lines` whenever an odd condition holds,
+/// resuming past each stop: the stops, as the quiet loop with halts or the observed path saw
+/// them.
+fn line_stops<M: Machine>(
+    t: &mut Timeline<M>,
+    quiet: bool,
+    lines: &[usize],
+    end: Pos,
+) -> Vec<(servoscope::machine::StopReason, Pos)> {
+    let mut out = Vec::new();
+    for _ in 0..8 {
+        let start = t.machine.pos();
+        let stop = |m: &M| {
+            m.pos() != start
+                && m.pc_line().is_some_and(|l| lines.contains(&l))
+                && m.steps() % 3 != 1
+        };
+        let reason = if quiet {
+            t.forward_lines(end, lines.to_vec(), stop)
+        } else {
+            t.forward(end, stop)
+        };
+        out.push((reason, t.machine.pos()));
+        if reason != servoscope::machine::StopReason::Predicate {
+            break;
+        }
+    }
+    out
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(96))]
+
+    #[test]
+    fn line_breakpoints_stop_the_quiet_loop_where_they_stop_the_observed_run(
+        src in program(),
+        tml in tml_program(),
+        lines in prop::collection::vec(1usize..16, 1..3),
+        ticks in 1u64..20_000,
+    ) {
+        let start = machine(&src);
+        let channels = vec![channel(0), channel(22)];
+        let mut quiet = Timeline::new(start.clone(), Vec::new(), channels.clone());
+        let mut observed = Timeline::new(start, Vec::new(), channels);
+        let end = Pos::at_tick(ticks);
+        prop_assert_eq!(
+            line_stops(&mut quiet, true, &lines, end),
+            line_stops(&mut observed, false, &lines, end),
+            "{}", src
+        );
+        prop_assert_eq!(&quiet.machine, &observed.machine);
+        prop_assert!(quiet.trace.samples().eq(observed.trace.samples()));
+
+        let start = servoscope::machine::tml::dialect::machine(&tml);
+        prop_assume!(start.is_ok());
+        let Ok(start) = start else { return Ok(()) };
+        let channels = vec![channel_named(&start, "l")];
+        let mut quiet = Timeline::new(start.clone(), Vec::new(), channels.clone());
+        let mut observed = Timeline::new(start, Vec::new(), channels);
+        let end = Pos::at_tick(ticks / 4);
+        prop_assert_eq!(
+            line_stops(&mut quiet, true, &lines, end),
+            line_stops(&mut observed, false, &lines, end),
+            "{}", tml
+        );
+        prop_assert!(quiet.machine == observed.machine);
+        prop_assert!(quiet.trace.samples().eq(observed.trace.samples()));
+    }
+}

@@ -259,6 +259,16 @@ impl Checker {
         c
     }
 
+    /// The lines it stops on, when it is asked only there (no data breakpoints): then only
+    /// the boundaries before those lines need asking.
+    pub fn only_lines(&self) -> Option<Vec<usize>> {
+        self.data.is_empty().then(|| {
+            (0..self.by_line.len())
+                .filter(|&l| !self.by_line[l].is_empty())
+                .collect()
+        })
+    }
+
     pub fn is_empty(&self) -> bool {
         self.by_line.is_empty() && self.data.is_empty()
     }

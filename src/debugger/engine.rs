@@ -39,6 +39,20 @@ impl StopWhen<'_> {
             && self.checker.is_none()
     }
 
+    /// The lines before which it may stop, when those are the only boundaries it needs to
+    /// see (line breakpoints and run to line; not a step, a data breakpoint or the error lamp).
+    pub fn only_lines(&self) -> Option<Vec<usize>> {
+        if self.any || self.on_error || self.after.is_some() {
+            return None;
+        }
+        let mut lines = match self.checker {
+            Some(c) => c.borrow().only_lines()?,
+            None => Vec::new(),
+        };
+        lines.extend(self.line);
+        Some(lines)
+    }
+
     /// Whether to stop before the instruction `m` is about to run.
     #[inline]
     pub fn holds<M: MachineView + ?Sized>(&self, m: &M) -> bool {
@@ -126,12 +140,14 @@ impl<M: Machine> Engine for Core<M> {
         if stop.is_never() {
             return self.timeline.forward_unstopped(limit);
         }
-        let mut first = stop.skip_first;
-        self.timeline.forward(limit, |m| {
-            let hit = !first && stop.holds(m);
-            first = false;
-            hit
-        })
+        // Resuming from a breakpoint skips the position the run starts at, wherever the first
+        // question comes (a quiet stretch asks only before breakpoint lines).
+        let start = self.timeline.now();
+        let asked = |m: &M| (!stop.skip_first || m.pos() != start) && stop.holds(m);
+        if let Some(lines) = stop.only_lines() {
+            return self.timeline.forward_lines(limit, lines, asked);
+        }
+        self.timeline.forward(limit, asked)
     }
     fn goto(&mut self, pos: Pos) {
         self.timeline.goto(pos);

@@ -284,13 +284,26 @@ impl<M: Machine> Timeline<M> {
     /// longer; every other tick (and each checkpoint's and event's position) is observed as
     /// usual. Records exactly what `forward` records.
     pub fn forward_unstopped(&mut self, limit: Pos) -> StopReason {
+        self.forward_lines(limit, Vec::new(), |_| false)
+    }
+
+    /// [`Timeline::forward_unstopped`] for a run that `stop` may end only before an
+    /// instruction on one of `lines` (line breakpoints): the quiet loop also halts before
+    /// those, and `stop` is asked there as usual.
+    pub fn forward_lines<F: FnMut(&M) -> bool>(
+        &mut self,
+        limit: Pos,
+        lines: Vec<usize>,
+        mut stop: F,
+    ) -> StopReason {
         // A plotted expression may read anything: every tick must be looked at.
         if self.channels.iter().any(|c| c.expr.is_some()) {
-            return self.forward(limit, |_| false);
+            return self.forward(limit, stop);
         }
         let mut quiet = Quiet {
             watched: self.channels.iter().map(|c| c.loc).collect(),
-            written: WriteSet::default(),
+            lines,
+            ..Quiet::default()
         };
         // Ticks observed when the quiet loop could not start: more while it keeps failing, so
         // a program that always moves pays little for asking.
@@ -298,7 +311,7 @@ impl<M: Machine> Timeline<M> {
         loop {
             let now = self.machine.pos();
             if now >= limit || !self.machine.run_state().is_live() {
-                return self.forward(limit, |_| false);
+                return self.forward(limit, &mut stop);
             }
             let checkpoint_due =
                 Pos::at_tick((now.tick / CHECKPOINT_EVERY + 1).saturating_mul(CHECKPOINT_EVERY));
@@ -306,7 +319,7 @@ impl<M: Machine> Timeline<M> {
             let until = limit.min(checkpoint_due).min(event_due.unwrap_or(limit));
             let progressed = if until > now {
                 let Some(reason) = self.machine.run_quiet(until, &mut quiet) else {
-                    return self.forward(limit, |_| false);
+                    return self.forward(limit, stop);
                 };
                 let reached = self.machine.pos();
                 if let Some(last) = self.written.last_mut() {
@@ -345,7 +358,7 @@ impl<M: Machine> Timeline<M> {
             };
             let here = self.machine.pos();
             let next = limit.min(Pos::at_tick(here.tick.saturating_add(observed)));
-            let reason = self.forward(next, |_| false);
+            let reason = self.forward(next, &mut stop);
             if reason != StopReason::TickLimit {
                 return reason;
             }

@@ -486,8 +486,26 @@ pub trait Machine: MachineView + Clone + PartialEq {
 pub struct Quiet {
     /// Stop before any of these would change.
     pub watched: Vec<Loc>,
+    /// Stop before an instruction on one of these lines (breakpoints).
+    pub lines: Vec<usize>,
     /// The locations the run wrote.
     pub written: WriteSet,
+    /// The machine's own table of where to halt, made from `lines` at its first call.
+    pub halts: Vec<bool>,
+}
+
+impl Quiet {
+    /// `halts` for a program whose instruction `i` is on line `line_of(i)`.
+    pub fn halts_for(&mut self, count: usize, line_of: impl Fn(usize) -> usize) -> &[bool] {
+        if self.lines.is_empty() {
+            self.halts.clear();
+        } else if self.halts.len() != count {
+            self.halts = (0..count)
+                .map(|i| self.lines.contains(&line_of(i)))
+                .collect();
+        }
+        &self.halts
+    }
 }
 
 /// A 256-bit Bloom set of locations.

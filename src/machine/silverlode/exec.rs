@@ -686,6 +686,7 @@ impl SilverLode {
         max: u64,
         guard: &[u64; 4],
         written: &mut [u64; 4],
+        halts: &[bool],
     ) -> u64 {
         if self.s.run != RunState::Running || !self.motion_idle() {
             return 0;
@@ -701,6 +702,9 @@ impl SilverLode {
             let Some(&op) = flat.get(pc) else {
                 break;
             };
+            if GUARDED && halts.get(pc) == Some(&true) {
+                break;
+            }
             // (register written, value, operands for the explanation)
             let (dst, v, x0, x1) = match op {
                 Op::AddI { res, a, d } => {
@@ -857,7 +861,8 @@ impl SilverLode {
             if self.s.ticks >= tick_limit {
                 return StopReason::TickLimit;
             }
-            if self.run_plain::<false>(tick_limit - self.s.ticks, &[0; 4], &mut unused) == 0 {
+            if self.run_plain::<false>(tick_limit - self.s.ticks, &[0; 4], &mut unused, &[]) == 0
+            {
                 self.tick();
             }
         }

@@ -2,6 +2,7 @@
 //! the status words, the three inputs), its queues decoded, and its runner report (spec §8).
 
 use std::any::Any;
+use std::sync::Arc;
 use std::fmt::Write as _;
 
 use super::motion::FRAC;
@@ -519,16 +520,23 @@ impl Machine for SilverLode {
         }
         let tick_limit = limit.tick.saturating_add(u64::from(limit.step > 0));
         let mut written = [0u64; 4];
+        let program = Arc::clone(&self.program);
+        quiet.halts_for(program.instrs.len(), |i| {
+            program.lines.get(i).map_or(0, |&l| l as usize)
+        });
+        let halts = std::mem::take(&mut quiet.halts);
         let reason = loop {
             if matches!(self.s.run, RunState::Ended | RunState::Faulted) {
                 break StopReason::Stopped;
             }
             if self.s.ticks >= tick_limit
-                || self.run_plain::<true>(tick_limit - self.s.ticks, &guard, &mut written) == 0
+                || self.run_plain::<true>(tick_limit - self.s.ticks, &guard, &mut written, &halts)
+                    == 0
             {
                 break StopReason::TickLimit;
             }
         };
+        quiet.halts = halts;
         for (word, mut bits) in written.into_iter().enumerate() {
             while bits != 0 {
                 let bit = bits.trailing_zeros();

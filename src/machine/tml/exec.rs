@@ -346,6 +346,7 @@ impl Tml {
         &mut self,
         max: u64,
         mut written: Option<&mut WriteSet>,
+        halts: &[bool],
         mut tick_done: T,
     ) -> u64 {
         if !self.is_live() || self.wait_since.is_some() {
@@ -362,6 +363,9 @@ impl Tml {
             let Some(&op) = self.program.flat.get(index) else {
                 break;
             };
+            if halts.get(index) == Some(&true) {
+                break;
+            }
             let vars = &mut self.vars[..];
             let read = |vars: &[u32], s: Slot| -> i64 {
                 i64::from(((vars.get(s.var as usize).copied().unwrap_or(0) << s.shift) as i32) >> s.shift)
@@ -488,17 +492,20 @@ impl Tml {
             return StopReason::TickLimit;
         }
         let held: Vec<u64> = quiet.watched.iter().map(|&loc| self.read(loc)).collect();
+        let program = std::sync::Arc::clone(&self.program);
+        quiet.halts_for(program.stmts.len(), |i| program.stmts.get(i).map_or(0, |s| s.line));
+        let halts = std::mem::take(&mut quiet.halts);
         let mut changed = false;
-        loop {
+        let reason = loop {
             if !self.is_live() {
-                return StopReason::Stopped;
+                break StopReason::Stopped;
             }
             let now = self.pos();
             if now >= limit || changed {
-                return StopReason::TickLimit;
+                break StopReason::TickLimit;
             }
             let left = (limit.tick - now.tick).saturating_mul(u64::from(STATEMENTS_PER_TICK));
-            let ran = self.run_plain(left, Some(&mut quiet.written), |m| {
+            let ran = self.run_plain(left, Some(&mut quiet.written), &halts, |m| {
                 changed = quiet
                     .watched
                     .iter()
@@ -509,9 +516,11 @@ impl Tml {
             // A run that ends inside a tick (a statement the fast loop hands over) is finished
             // by the timeline, observed.
             if ran == 0 || self.step != 0 {
-                return StopReason::TickLimit;
+                break StopReason::TickLimit;
             }
-        }
+        };
+        quiet.halts = halts;
+        reason
     }
 
     fn multiply(&mut self, index: usize, va: i64, vb: i64, left: bool, n: u8) -> [i64; 3] {
@@ -545,7 +554,7 @@ impl Tml {
                 .saturating_mul(u64::from(STATEMENTS_PER_TICK))
                 .saturating_add(u64::from(limit.step))
                 .saturating_sub(u64::from(now.step));
-            if self.run_plain(left, None, |_| false) == 0 {
+            if self.run_plain(left, None, &[], |_| false) == 0 {
                 let next = self.steps + 1;
                 self.run_loop(limit, |m| m.steps >= next, |_| {});
             }
