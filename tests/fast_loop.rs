@@ -327,22 +327,23 @@ proptest! {
     }
 }
 
+/// Where a run stopped, and every position at which it was asked on a breakpoint line.
+type Stops = (Vec<(servoscope::machine::StopReason, Pos)>, Vec<Pos>);
+
 /// Run to `end`, stopping before an instruction on `lines` whenever an odd condition holds,
-/// resuming past each stop: the stops, as the quiet loop with halts or the observed path saw
-/// them.
-fn line_stops<M: Machine>(
-    t: &mut Timeline<M>,
-    quiet: bool,
-    lines: &[usize],
-    end: Pos,
-) -> Vec<(servoscope::machine::StopReason, Pos)> {
+/// resuming past each stop: the stops and the questions, as the quiet loop with halts or the
+/// observed path saw them (a breakpoint counts its hits: it must be asked once a boundary).
+fn line_stops<M: Machine>(t: &mut Timeline<M>, quiet: bool, lines: &[usize], end: Pos) -> Stops {
     let mut out = Vec::new();
+    let mut asked = Vec::new();
     for _ in 0..8 {
         let start = t.machine.pos();
         let stop = |m: &M| {
-            m.pos() != start
-                && m.pc_line().is_some_and(|l| lines.contains(&l))
-                && m.steps() % 3 != 1
+            let on_line = m.pc_line().is_some_and(|l| lines.contains(&l));
+            if on_line {
+                asked.push(m.pos());
+            }
+            m.pos() != start && on_line && m.steps() % 3 != 1
         };
         let reason = if quiet {
             t.forward_lines(end, lines.to_vec(), stop)
@@ -354,7 +355,7 @@ fn line_stops<M: Machine>(
             break;
         }
     }
-    out
+    (out, asked)
 }
 
 proptest! {

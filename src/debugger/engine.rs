@@ -143,7 +143,13 @@ impl<M: Machine> Engine for Core<M> {
         // Resuming from a breakpoint skips the position the run starts at, wherever the first
         // question comes (a quiet stretch asks only before breakpoint lines).
         let start = self.timeline.now();
-        let asked = |m: &M| (!stop.skip_first || m.pos() != start) && stop.holds(m);
+        let skip = stop.skip_first;
+        let asked = move |m: &M| {
+            if skip && m.pos() == start {
+                return false;
+            }
+            stop.holds(m)
+        };
         if let Some(lines) = stop.only_lines() {
             return self.timeline.forward_lines(limit, lines, asked);
         }

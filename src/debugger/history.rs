@@ -318,7 +318,7 @@ impl<M: Machine> Timeline<M> {
             let event_due = self.events.get(self.next_event).map(|e| e.at);
             let until = limit.min(checkpoint_due).min(event_due.unwrap_or(limit));
             let progressed = if until > now {
-                let Some(reason) = self.machine.run_quiet(until, &mut quiet) else {
+                let Some(reason) = self.machine.run_quiet(until, &mut quiet, &mut stop) else {
                     return self.forward(limit, stop);
                 };
                 let reached = self.machine.pos();

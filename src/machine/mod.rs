@@ -462,7 +462,16 @@ pub trait Machine: MachineView + Clone + PartialEq {
     /// stretch in which its trace holds still, without a look at every tick (it samples the
     /// end). May stop short of `limit` (with `TickLimit`) where a tick needs looking at; `None`
     /// when the dialect has no such loop for these locations, and every tick is then observed.
-    fn run_quiet(&mut self, _limit: Pos, _quiet: &mut Quiet) -> Option<StopReason> {
+    ///
+    /// Before an instruction on a line of `quiet.lines` the run either returns (`TickLimit`) for
+    /// the timeline to ask, or asks `stop` itself and returns `Predicate` when it holds; never
+    /// both for one boundary.
+    fn run_quiet(
+        &mut self,
+        _limit: Pos,
+        _quiet: &mut Quiet,
+        _stop: &mut dyn FnMut(&Self) -> bool,
+    ) -> Option<StopReason> {
         None
     }
 
@@ -492,6 +501,8 @@ pub struct Quiet {
     pub written: WriteSet,
     /// The machine's own table of where to halt, made from `lines` at its first call.
     pub halts: Vec<bool>,
+    /// How many instructions `halts` marks.
+    pub halting: usize,
 }
 
 impl Quiet {
@@ -499,10 +510,12 @@ impl Quiet {
     pub fn halts_for(&mut self, count: usize, line_of: impl Fn(usize) -> usize) -> &[bool] {
         if self.lines.is_empty() {
             self.halts.clear();
+            self.halting = 0;
         } else if self.halts.len() != count {
             self.halts = (0..count)
                 .map(|i| self.lines.contains(&line_of(i)))
                 .collect();
+            self.halting = self.halts.iter().filter(|&&h| h).count();
         }
         &self.halts
     }

@@ -671,7 +671,7 @@ impl SilverLode {
 
     /// Whether the motion model has nothing to do this tick (see `motion_tick`).
     #[inline(always)]
-    fn motion_idle(&self) -> bool {
+    pub(super) fn motion_idle(&self) -> bool {
         let m = &self.s.motion;
         m.settled && (m.seen_r0, m.seen_r1) == (self.s.regs[0], self.s.regs[1])
     }
@@ -687,6 +687,7 @@ impl SilverLode {
         guard: &[u64; 4],
         written: &mut [u64; 4],
         halts: &[bool],
+        asked: bool,
     ) -> u64 {
         if self.s.run != RunState::Running || !self.motion_idle() {
             return 0;
@@ -702,7 +703,8 @@ impl SilverLode {
             let Some(&op) = flat.get(pc) else {
                 break;
             };
-            if GUARDED && halts.get(pc) == Some(&true) {
+            // (The first command's halt was asked already when `asked`.)
+            if GUARDED && halts.get(pc) == Some(&true) && !(asked && n == 0) {
                 break;
             }
             // (register written, value, operands for the explanation)
@@ -861,7 +863,8 @@ impl SilverLode {
             if self.s.ticks >= tick_limit {
                 return StopReason::TickLimit;
             }
-            if self.run_plain::<false>(tick_limit - self.s.ticks, &[0; 4], &mut unused, &[]) == 0
+            if self.run_plain::<false>(tick_limit - self.s.ticks, &[0; 4], &mut unused, &[], false)
+                == 0
             {
                 self.tick();
             }

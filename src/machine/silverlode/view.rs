@@ -510,7 +510,14 @@ impl Machine for SilverLode {
 
     /// Plain commands run in the fast loop until one would write a watched register; watching
     /// anything but registers (a status word changes with every calculation) is not supported.
-    fn run_quiet(&mut self, limit: Pos, quiet: &mut crate::machine::Quiet) -> Option<StopReason> {
+    /// Asks `stop` itself before a breakpoint line whose command the fast loop runs, so a
+    /// conditional breakpoint costs a question, not a hand-over.
+    fn run_quiet(
+        &mut self,
+        limit: Pos,
+        quiet: &mut crate::machine::Quiet,
+        stop: &mut dyn FnMut(&Self) -> bool,
+    ) -> Option<StopReason> {
         let mut guard = [0u64; 4];
         for loc in &quiet.watched {
             if loc.space != REGS || loc.index as usize >= REGISTERS {
@@ -524,15 +531,37 @@ impl Machine for SilverLode {
         quiet.halts_for(program.instrs.len(), |i| {
             program.lines.get(i).map_or(0, |&l| l as usize)
         });
+        if quiet.halting * 4 > program.instrs.len() {
+            // Breakpoints on most lines: a question at nearly every command, which the
+            // timeline's own loop asks as cheaply.
+            return None;
+        }
         let halts = std::mem::take(&mut quiet.halts);
         let reason = loop {
             if matches!(self.s.run, RunState::Ended | RunState::Faulted) {
                 break StopReason::Stopped;
             }
-            if self.s.ticks >= tick_limit
-                || self.run_plain::<true>(tick_limit - self.s.ticks, &guard, &mut written, &halts)
-                    == 0
-            {
+            if self.s.ticks >= tick_limit {
+                break StopReason::TickLimit;
+            }
+            let left = tick_limit - self.s.ticks;
+            if self.run_plain::<true>(left, &guard, &mut written, &halts, false) > 0 {
+                continue;
+            }
+            // Halted before a breakpoint line while the loop could run on: ask here, once, and
+            // run that command: in the loop if it can, else by the full executor (a tick that
+            // may change anything, so the stretch ends with it).
+            let pc = self.s.pc as usize;
+            let running = self.s.run == RunState::Running && self.motion_idle();
+            if !running || halts.get(pc) != Some(&true) {
+                break StopReason::TickLimit;
+            }
+            if stop(self) {
+                break StopReason::Predicate;
+            }
+            if self.run_plain::<true>(1, &guard, &mut written, &halts, true) == 0 {
+                self.tick();
+                self.note_writes(&mut quiet.written);
                 break StopReason::TickLimit;
             }
         };

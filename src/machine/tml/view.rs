@@ -499,7 +499,13 @@ impl Machine for Tml {
         self.run_bare_to(limit)
     }
 
-    fn run_quiet(&mut self, limit: Pos, quiet: &mut crate::machine::Quiet) -> Option<StopReason> {
+    /// Returns before a breakpoint line for the timeline to ask.
+    fn run_quiet(
+        &mut self,
+        limit: Pos,
+        quiet: &mut crate::machine::Quiet,
+        _stop: &mut dyn FnMut(&Self) -> bool,
+    ) -> Option<StopReason> {
         Some(self.run_quiet_to(limit, quiet))
     }
 }
