@@ -6,7 +6,8 @@
 //! slice); the loops inside run on the concrete machine type.
 //!
 //! No egui here: everything the GUI can do is a method a unit test can call. The GUI calls
-//! [`Debugger::advance`] once per frame with a time budget, so a run never blocks a frame.
+//! [`Debugger::advance`] once per frame with a time budget, so a run never blocks a frame; a run
+//! at unlimited speed goes on between frames on a worker thread ([`Debugger::hand_off`]).
 
 pub mod breakpoints;
 pub mod engine;
