@@ -199,7 +199,6 @@ pub(crate) fn run_chunk(
     engine: &mut dyn Engine,
     plan: &Plan,
     checker: Option<&RefCell<Checker>>,
-    skip_first: bool,
     ticks: u64,
 ) -> StopReason {
     let chunk = Pos::at_tick(engine.machine().pos().tick.saturating_add(ticks));
@@ -224,7 +223,7 @@ pub(crate) fn run_chunk(
             &StopWhen {
                 checker,
                 line: plan.line(),
-                skip_first,
+                skip_first: plan.skip_first,
                 on_error: plan.on_error,
                 ..StopWhen::default()
             },
@@ -387,16 +386,17 @@ impl Debugger {
             }
         };
         let checker = (!self.checker.get_mut().is_empty()).then_some(&self.checker);
-        let plan = Plan {
+        let mut plan = Plan {
             goal,
             on_error: self.break_on_error && !self.lamp_was_on,
             skip_first: false,
         };
         while commands > 0 {
-            let skip = std::mem::take(&mut self.resume_past_breakpoint);
+            plan.skip_first = std::mem::take(&mut self.resume_past_breakpoint);
+            let skip = plan.skip_first;
             let now = self.pos();
             let reason = if commands == u64::MAX {
-                run_chunk(self.engine.as_mut(), &plan, checker, skip, CHUNK_TICKS)
+                run_chunk(self.engine.as_mut(), &plan, checker, CHUNK_TICKS)
             } else {
                 let at_stop = StopWhen {
                     checker,

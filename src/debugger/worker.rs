@@ -102,20 +102,15 @@ fn run_job(job: Job, call_back: &AtomicBool, chunk: &mut u64) -> Done {
     let Job {
         mut engine,
         checker,
-        plan,
+        mut plan,
     } = job;
     let checker = RefCell::new(checker);
     let active = (!checker.borrow().is_empty()).then_some(&checker);
-    let mut skip = plan.skip_first;
     let reason = loop {
         let started = Instant::now();
-        let reason = run_chunk(
-            engine.as_mut(),
-            &plan,
-            active,
-            std::mem::take(&mut skip),
-            *chunk,
-        );
+        let reason = run_chunk(engine.as_mut(), &plan, active, *chunk);
+        // Only the run's first stretch starts where it resumed.
+        plan.skip_first = false;
         if reason != StopReason::TickLimit {
             break reason;
         }
