@@ -397,3 +397,39 @@ proptest! {
         prop_assert!(quiet.trace.samples().eq(observed.trace.samples()));
     }
 }
+
+/// A counter bumped all along while the plot holds still: its last write before tick 10,000
+/// lies in the first checkpoint stretch, which the quiet loop recorded whole, and is found
+/// there as from a recording observed tick by tick.
+#[test]
+fn a_write_inside_a_quiet_stretch_is_found() {
+    fn last_write<M: Machine + std::fmt::Debug>(
+        start: M,
+        plotted: &str,
+        counter: &str,
+    ) -> Option<Pos> {
+        let channels = vec![channel_named(&start, plotted)];
+        let loc = start.find(counter).expect("a location of the dialect");
+        let mut quiet = Timeline::new(start.clone(), Vec::new(), channels.clone());
+        let mut observed = Timeline::new(start, Vec::new(), channels);
+        quiet.forward_unstopped(Pos::at_tick(30_000));
+        observed.forward(Pos::at_tick(30_000), |_| false);
+        let before = Pos::at_tick(10_000);
+        let found = quiet.find_write_back(before, loc);
+        assert_eq!(found, observed.find_write_back(before, loc), "{counter}");
+        found
+    }
+    // One command a tick: the add runs on even ticks and its boundary is the next tick.
+    let sl = machine("l1: CLD ADD, 23, 23, 1\nJMP l1\n");
+    assert_eq!(last_write(sl, "R0", "R23"), Some(Pos::at_tick(9_999)));
+    // Ten statements a tick: the add is statements 0, 2, 4, 6 and 8 of each.
+    let tml = servoscope::machine::tml::dialect::machine("int i;\nl0: i += 1;\nGOTO l0;\n")
+        .expect("assembles");
+    assert_eq!(
+        last_write(tml, "TPOS", "i"),
+        Some(Pos {
+            tick: 9_999,
+            step: 9
+        })
+    );
+}

@@ -381,6 +381,61 @@ pub trait ScanSteps: MachineView {
     fn run_instruction(&mut self);
     /// Count a scan of a program with no instructions.
     fn complete_empty_scan(&mut self);
+    /// The line of instruction `index`, and how many there are: where line breakpoints halt.
+    fn instruction_line(&self, index: usize) -> usize;
+    fn instruction_count(&self) -> usize;
+    /// One whole scan from its start in the dialect's fast loop, leaving the machine as the
+    /// executor leaves it at the scan's end; false, with nothing run, where it cannot.
+    fn fast_scan(&mut self) -> bool;
+    /// Every location a scan may write (a superset of what `note_writes` notes over a scan).
+    fn scan_writes(&self) -> WriteSet;
+}
+
+/// [`Machine::run_bare`] of a scanned PLC: the rest of a begun scan in the executor, whole
+/// scans in the fast loop, then what is left of `limit` in the executor.
+pub fn run_scans_bare<M: ScanSteps>(m: &mut M, limit: Pos) -> StopReason {
+    if m.pos().step != 0 {
+        let scan_end = Pos::at_tick(m.ticks() + 1).min(limit);
+        run_scans(m, scan_end, |_| false, |_| {});
+    }
+    while Pos::at_tick(m.ticks() + 1) <= limit && m.fast_scan() {}
+    run_scans(m, limit, |_| false, |_| {})
+}
+
+/// [`Machine::run_quiet`] of a scanned PLC: whole scans in the fast loop while the watched
+/// values at scan ends stay as they were; the first scan that changes one is the last run.
+/// A breakpoint line, which every scan passes, leaves the run to the timeline (None).
+pub fn run_scans_quiet<M: ScanSteps>(
+    m: &mut M,
+    limit: Pos,
+    quiet: &mut Quiet,
+) -> Option<StopReason> {
+    if quiet
+        .halts_for(m.instruction_count(), |i| m.instruction_line(i))
+        .contains(&true)
+    {
+        return None;
+    }
+    quiet.held.clear();
+    quiet
+        .held
+        .extend(quiet.watched.iter().map(|&loc| m.read(loc)));
+    let mut ran = false;
+    while m.pos().step == 0 && Pos::at_tick(m.ticks() + 1) <= limit && m.fast_scan() {
+        ran = true;
+        if quiet
+            .watched
+            .iter()
+            .zip(&quiet.held)
+            .any(|(&loc, &was)| m.read(loc) != was)
+        {
+            break;
+        }
+    }
+    if ran {
+        quiet.written.union(m.scan_writes());
+    }
+    Some(StopReason::TickLimit)
 }
 
 /// The run loop of a scanned PLC: `stop` is asked before every instruction, `observe` after
@@ -503,6 +558,12 @@ pub struct Quiet {
     pub halts: Vec<bool>,
     /// How many instructions `halts` marks.
     pub halting: usize,
+    /// The machine's room for the watched values a run began with.
+    pub held: Vec<u64>,
+    /// The machine's own table of where its loop hands over, made at its first call.
+    pub stops: Vec<bool>,
+    /// How many instructions `stops` marks.
+    pub stopping: usize,
 }
 
 impl Quiet {

@@ -10,6 +10,7 @@
 pub mod assembler;
 pub mod dialect;
 pub mod explain;
+pub mod fast;
 #[cfg(feature = "gui")]
 pub mod panels;
 pub mod program;
@@ -533,6 +534,18 @@ impl crate::machine::ScanSteps for Dl205 {
     }
     fn complete_empty_scan(&mut self) {
         self.tick += 1;
+    }
+    fn instruction_line(&self, index: usize) -> usize {
+        self.program.instrs.get(index).map_or(0, |i| i.line)
+    }
+    fn instruction_count(&self) -> usize {
+        self.program.instrs.len()
+    }
+    fn fast_scan(&mut self) -> bool {
+        self.scan_fast()
+    }
+    fn scan_writes(&self) -> crate::machine::WriteSet {
+        self.program.scan_writes
     }
 }
 

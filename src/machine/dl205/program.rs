@@ -189,4 +189,8 @@ pub struct Program {
     pub instrs: Vec<Instr>,
     pub used_v: Vec<u32>,
     pub used_bits: Vec<Bit>,
+    /// The fast loop's form of `instrs` ([`super::fast`]).
+    pub flat: Vec<super::fast::Flat>,
+    /// Every location a scan may write.
+    pub scan_writes: crate::machine::WriteSet,
 }

@@ -537,5 +537,7 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
     program.used_regs.dedup();
     program.used_bits.sort_unstable();
     program.used_bits.dedup();
+    program.flat = super::fast::flatten(&program.instrs);
+    program.scan_writes = super::fast::scan_writes(&program.instrs);
     Ok(program)
 }

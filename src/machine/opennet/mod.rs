@@ -11,6 +11,7 @@
 pub mod assembler;
 pub mod dialect;
 pub mod explain;
+pub mod fast;
 #[cfg(feature = "gui")]
 pub mod panels;
 pub mod program;
@@ -216,8 +217,37 @@ impl OpenNet {
         (pattern, !in_range)
     }
 
+    /// MUL's 32-bit result pattern, or None when D or L cannot hold the product.
+    #[inline]
+    fn product(ty: Ty, x: i64, y: i64) -> Option<u32> {
+        let p = i128::from(x) * i128::from(y);
+        let fits = match ty {
+            Ty::D => p <= i128::from(u32::MAX),
+            Ty::L => (i128::from(i32::MIN)..=i128::from(i32::MAX)).contains(&p),
+            _ => true,
+        };
+        fits.then_some(p as u32)
+    }
+
+    /// DIV's quotient and remainder (truncated toward zero; the remainder has the dividend's
+    /// sign), or the error it raises.
+    #[inline]
+    fn quotient(ty: Ty, x: i64, y: i64) -> Result<(i64, i64), &'static str> {
+        if y == 0 {
+            Err("divide_by_zero")
+        } else if ty.signed() && x == ty.min() && y == -1 {
+            Err("divide_overflow")
+        } else {
+            Ok((x / y, x % y))
+        }
+    }
+
     fn record_error(&mut self, kind: &'static str) {
-        let line = self.program.instrs[self.pc as usize].line;
+        self.record_error_at(self.pc as usize, kind);
+    }
+
+    fn record_error_at(&mut self, index: usize, kind: &'static str) {
+        let line = self.program.instrs.get(index).map_or(0, |i| i.line);
         self.special[M8004] = true;
         self.error_count += 1;
         self.last_error = Some(ExecError {
@@ -364,35 +394,25 @@ impl OpenNet {
                             cycle.out_of_range = out;
                         }
                         Arith::Mul => {
-                            let p = i128::from(x) * i128::from(y);
-                            cycle.exact = p as i64;
-                            let fits = match ty {
-                                Ty::D => p <= i128::from(u32::MAX),
-                                Ty::L => (i128::from(i32::MIN)..=i128::from(i32::MAX)).contains(&p),
-                                _ => true,
-                            };
-                            if fits {
-                                self.write_word(&dst, 2, dof, p as u32);
-                                cycle.stored = p as u32;
-                            } else {
-                                cycle.error = Some("mul_range");
+                            cycle.exact = (i128::from(x) * i128::from(y)) as i64;
+                            match Self::product(ty, x, y) {
+                                Some(p) => {
+                                    self.write_word(&dst, 2, dof, p);
+                                    cycle.stored = p;
+                                }
+                                None => cycle.error = Some("mul_range"),
                             }
                         }
-                        Arith::Div => {
-                            if y == 0 {
-                                cycle.error = Some("divide_by_zero");
-                            } else if ty.signed() && x == ty.min() && y == -1 {
-                                cycle.error = Some("divide_overflow");
-                            } else {
-                                // Truncated toward zero; the remainder has the dividend's sign.
-                                let (q, r) = (x / y, x % y);
+                        Arith::Div => match Self::quotient(ty, x, y) {
+                            Ok((q, r)) => {
                                 self.write_word(&dst, w, dof, q as u32);
                                 self.write_word(&dst, w, dof + w, r as u32);
                                 cycle.exact = q;
                                 cycle.stored = q as u32 & if w == 1 { 0xFFFF } else { u32::MAX };
                                 cycle.remainder = r;
                             }
-                        }
+                            Err(kind) => cycle.error = Some(kind),
+                        },
                     }
                     if let Some(kind) = cycle.error {
                         self.record_error(kind);
@@ -441,6 +461,18 @@ impl crate::machine::ScanSteps for OpenNet {
     }
     fn complete_empty_scan(&mut self) {
         self.tick += 1;
+    }
+    fn instruction_line(&self, index: usize) -> usize {
+        self.program.instrs.get(index).map_or(0, |i| i.line)
+    }
+    fn instruction_count(&self) -> usize {
+        self.program.instrs.len()
+    }
+    fn fast_scan(&mut self) -> bool {
+        self.scan_fast()
+    }
+    fn scan_writes(&self) -> crate::machine::WriteSet {
+        self.program.scan_writes
     }
 }
 

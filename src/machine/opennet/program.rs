@@ -194,4 +194,8 @@ pub struct Program {
     pub edges: u32,
     pub used_regs: Vec<u32>,
     pub used_bits: Vec<(Area, u32)>,
+    /// The fast loop's form of `instrs` ([`super::fast`]).
+    pub flat: Vec<super::fast::Flat>,
+    /// Every location a scan may write.
+    pub scan_writes: crate::machine::WriteSet,
 }

@@ -345,4 +345,18 @@ impl Machine for OpenNet {
     ) -> StopReason {
         crate::machine::run_scans(self, limit, stop, observe)
     }
+
+    fn run_bare(&mut self, limit: Pos) -> StopReason {
+        crate::machine::run_scans_bare(self, limit)
+    }
+
+    /// Returns None while a line breakpoint is set: every scan would halt at it.
+    fn run_quiet(
+        &mut self,
+        limit: Pos,
+        quiet: &mut crate::machine::Quiet,
+        _stop: &mut dyn FnMut(&Self) -> bool,
+    ) -> Option<StopReason> {
+        crate::machine::run_scans_quiet(self, limit, quiet)
+    }
 }

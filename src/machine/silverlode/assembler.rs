@@ -43,8 +43,10 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
         let mut used = asm.used;
         used.sort_unstable();
         used.dedup();
+        let flat = super::program::flatten(&asm.instrs);
         Ok(Program {
-            flat: super::program::flatten(&asm.instrs),
+            flat_writes: super::program::flat_writes(&flat),
+            flat,
             instrs: asm.instrs,
             lines: asm.lines,
             labels: asm.label_list,

@@ -679,14 +679,12 @@ impl SilverLode {
     /// Run plain commands ([`Op`]: registers and flags only, one tick each) while the machine
     /// runs and the motor rests, exactly as `tick` would, with the bookkeeping done once at the
     /// end. Stops after `max` commands, before a command the full executor must run, and, when
-    /// `GUARDED`, before one that would write a register of `guard` (`written` then gets the
-    /// registers written). Returns how many commands ran.
+    /// `GUARDED`, before a command `stops` marks (but not the first when it was `asked`).
+    /// Returns how many commands ran.
     pub(super) fn run_plain<const GUARDED: bool>(
         &mut self,
         max: u64,
-        guard: &[u64; 4],
-        written: &mut [u64; 4],
-        halts: &[bool],
+        stops: &[bool],
         asked: bool,
     ) -> u64 {
         if self.s.run != RunState::Running || !self.motion_idle() {
@@ -704,7 +702,7 @@ impl SilverLode {
                 break;
             };
             // (The first command's halt was asked already when `asked`.)
-            if GUARDED && halts.get(pc) == Some(&true) && !(asked && n == 0) {
+            if GUARDED && stops.get(pc) == Some(&true) && !(asked && n == 0) {
                 break;
             }
             // (register written, value, operands for the explanation)
@@ -824,13 +822,6 @@ impl SilverLode {
                 }
                 Op::Full => break,
             };
-            if GUARDED {
-                let (word, bit) = (usize::from(dst >> 6), 1u64 << (dst & 63));
-                if guard[word] & bit != 0 {
-                    break;
-                }
-                written[word] |= bit;
-            }
             regs[dst as usize] = v;
             isw = (isw & !isw::FLAGS) | flag_bits(v);
             last = LastExec {
@@ -855,7 +846,6 @@ impl SilverLode {
     /// Run to `tick_limit` with nothing asked and nothing observed: plain commands in the fast
     /// loop, the rest tick by tick.
     pub fn run_to_tick(&mut self, tick_limit: u64) -> StopReason {
-        let mut unused = [0; 4];
         loop {
             if matches!(self.s.run, RunState::Ended | RunState::Faulted) {
                 return StopReason::Stopped;
@@ -863,9 +853,7 @@ impl SilverLode {
             if self.s.ticks >= tick_limit {
                 return StopReason::TickLimit;
             }
-            if self.run_plain::<false>(tick_limit - self.s.ticks, &[0; 4], &mut unused, &[], false)
-                == 0
-            {
+            if self.run_plain::<false>(tick_limit - self.s.ticks, &[], false) == 0 {
                 self.tick();
             }
         }

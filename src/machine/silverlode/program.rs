@@ -267,6 +267,8 @@ pub struct Program {
     pub register_names: Vec<(String, u8)>,
     /// `instrs` pre-decoded for the fast loop, one [`Op`] per command plus an end marker.
     pub flat: Vec<Op>,
+    /// Every register a command of `flat` other than `Full` may write.
+    pub flat_writes: crate::machine::WriteSet,
 }
 
 /// A command as the fast loop dispatches on it: one match, operands resolved. Only commands
@@ -350,6 +352,15 @@ pub fn flatten(instrs: &[Instr]) -> Vec<Op> {
     flat
 }
 
+/// [`Program::flat_writes`].
+pub fn flat_writes(flat: &[Op]) -> crate::machine::WriteSet {
+    let mut set = crate::machine::WriteSet::default();
+    for r in flat.iter().filter_map(|op| op.writes()) {
+        set.insert(super::view::reg(u32::from(r)));
+    }
+    set
+}
+
 fn flat_op(instr: Instr, len: u32) -> Op {
     use Op::*;
     match instr {
@@ -418,6 +429,7 @@ impl Program {
             used_registers: Vec::new(),
             register_names: Vec::new(),
             flat: vec![Op::Full],
+            flat_writes: crate::machine::WriteSet::default(),
         })
     }
 

@@ -518,15 +518,14 @@ impl Machine for SilverLode {
         quiet: &mut crate::machine::Quiet,
         stop: &mut dyn FnMut(&Self) -> bool,
     ) -> Option<StopReason> {
-        let mut guard = [0u64; 4];
+        let mut guard = [false; REGISTERS];
         for loc in &quiet.watched {
             if loc.space != REGS || loc.index as usize >= REGISTERS {
                 return None;
             }
-            guard[loc.index as usize >> 6] |= 1 << (loc.index & 63);
+            guard[loc.index as usize] = true;
         }
         let tick_limit = limit.tick.saturating_add(u64::from(limit.step > 0));
-        let mut written = [0u64; 4];
         let program = Arc::clone(&self.program);
         quiet.halts_for(program.instrs.len(), |i| {
             program.lines.get(i).map_or(0, |&l| l as usize)
@@ -536,7 +535,24 @@ impl Machine for SilverLode {
             // timeline's own loop asks as cheaply.
             return None;
         }
-        let halts = std::mem::take(&mut quiet.halts);
+        let guarded = |op: super::program::Op| op.writes().is_some_and(|r| guard[usize::from(r)]);
+        // One look per command in the loop: a breakpoint line, or a write to a plotted register.
+        if quiet.stops.len() != program.flat.len() {
+            quiet.stops = (program.flat.iter().enumerate())
+                .map(|(i, &op)| quiet.halts.get(i) == Some(&true) || guarded(op))
+                .collect();
+            quiet.stopping = quiet.stops.iter().filter(|&&s| s).count();
+        }
+        let (halts, stops) = (&quiet.halts, &quiet.stops);
+        // Nothing to stop before: the bare loop.
+        let run = |m: &mut Self, max: u64, asked: bool| {
+            if quiet.stopping == 0 {
+                m.run_plain::<false>(max, &[], asked)
+            } else {
+                m.run_plain::<true>(max, stops, asked)
+            }
+        };
+        let start = self.s.steps;
         let reason = loop {
             if matches!(self.s.run, RunState::Ended | RunState::Faulted) {
                 break StopReason::Stopped;
@@ -545,7 +561,7 @@ impl Machine for SilverLode {
                 break StopReason::TickLimit;
             }
             let left = tick_limit - self.s.ticks;
-            if self.run_plain::<true>(left, &guard, &mut written, &halts, false) > 0 {
+            if run(self, left, false) > 0 {
                 continue;
             }
             // Halted before a breakpoint line while the loop could run on: ask here, once, and
@@ -559,19 +575,19 @@ impl Machine for SilverLode {
             if stop(self) {
                 break StopReason::Predicate;
             }
-            if self.run_plain::<true>(1, &guard, &mut written, &halts, true) == 0 {
+            if run(self, 1, true) == 0 {
                 self.tick();
                 self.note_writes(&mut quiet.written);
                 break StopReason::TickLimit;
             }
-        };
-        quiet.halts = halts;
-        for (word, mut bits) in written.into_iter().enumerate() {
-            while bits != 0 {
-                let bit = bits.trailing_zeros();
-                quiet.written.insert(reg(word as u32 * 64 + bit));
-                bits &= bits - 1;
+            if program.flat.get(pc).is_some_and(|&op| guarded(op)) {
+                // It wrote a plotted register: the last command of the stretch.
+                break StopReason::TickLimit;
             }
+        };
+        if self.s.steps > start {
+            // Every register a plain command may write: the commands that ran are among them.
+            quiet.written.union(program.flat_writes);
         }
         Some(reason)
     }

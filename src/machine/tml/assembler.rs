@@ -985,8 +985,10 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
     used.sort_unstable();
     let mut used_inputs = names.used_inputs;
     used_inputs.sort_unstable();
+    let flat = super::program::flatten(&stmts);
     Ok(Program {
-        flat: super::program::flatten(&stmts),
+        flat_writes: super::exec::flat_writes(&flat),
+        flat,
         stmts,
         vars: names.vars,
         labels,

@@ -340,21 +340,15 @@ impl Tml {
     /// tick as its instruction phase fills. Stops before a statement the full executor must
     /// run. Returns how many ran.
     ///
-    /// `written` (when given) gets the locations written at every boundary, as the timeline
-    /// notes them; `tick_done` is asked after each tick and ends the run when it says so.
+    /// `tick_done` is asked after each tick and ends the run when it says so.
     fn run_plain<T: FnMut(&Self) -> bool>(
         &mut self,
         max: u64,
-        mut written: Option<&mut WriteSet>,
         halts: &[bool],
         mut tick_done: T,
     ) -> u64 {
         if !self.is_live() || self.wait_since.is_some() {
             return 0;
-        }
-        if let Some(set) = written.as_deref_mut() {
-            // What the timeline notes at the first boundary; later ones are noted below.
-            self.note_writes(set);
         }
         let len = self.program.flat.len();
         let mut n = 0;
@@ -467,14 +461,6 @@ impl Tml {
             if tick_over {
                 self.finish_tick();
             }
-            if let Some(set) = written.as_deref_mut() {
-                // As `note_writes` would at this boundary: the statement's destination, and
-                // the motion data while the profile moves (only a tick's end changes that).
-                note_flat_writes(op, set);
-                if tick_over {
-                    self.note_motion(set);
-                }
-            }
             if tick_over && tick_done(self) {
                 break;
             }
@@ -491,10 +477,17 @@ impl Tml {
         if self.step != 0 {
             return StopReason::TickLimit;
         }
-        let held: Vec<u64> = quiet.watched.iter().map(|&loc| self.read(loc)).collect();
+        quiet.held.clear();
+        quiet.held.extend(quiet.watched.iter().map(|&loc| self.read(loc)));
         let program = std::sync::Arc::clone(&self.program);
         quiet.halts_for(program.stmts.len(), |i| program.stmts.get(i).map_or(0, |s| s.line));
-        let halts = std::mem::take(&mut quiet.halts);
+        // What the timeline notes at the first boundary; the motion data while the profile
+        // moves (no plain statement starts a move).
+        let mut written = WriteSet::default();
+        self.note_writes(&mut written);
+        self.note_motion(&mut written);
+        let start = self.steps;
+        let (halts, watched, held) = (&quiet.halts, &quiet.watched, &quiet.held);
         let mut changed = false;
         let reason = loop {
             if !self.is_live() {
@@ -505,12 +498,8 @@ impl Tml {
                 break StopReason::TickLimit;
             }
             let left = (limit.tick - now.tick).saturating_mul(u64::from(STATEMENTS_PER_TICK));
-            let ran = self.run_plain(left, Some(&mut quiet.written), &halts, |m| {
-                changed = quiet
-                    .watched
-                    .iter()
-                    .zip(&held)
-                    .any(|(&loc, &was)| m.read(loc) != was);
+            let ran = self.run_plain(left, halts, |m| {
+                changed = watched.iter().zip(held).any(|(&loc, &was)| m.read(loc) != was);
                 changed
             });
             // A run that ends inside a tick (a statement the fast loop hands over) is finished
@@ -519,7 +508,11 @@ impl Tml {
                 break StopReason::TickLimit;
             }
         };
-        quiet.halts = halts;
+        if self.steps > start {
+            // Every destination of a plain statement: those that ran are among them.
+            written.union(program.flat_writes);
+            quiet.written.union(written);
+        }
         reason
     }
 
@@ -554,7 +547,7 @@ impl Tml {
                 .saturating_mul(u64::from(STATEMENTS_PER_TICK))
                 .saturating_add(u64::from(limit.step))
                 .saturating_sub(u64::from(now.step));
-            if self.run_plain(left, None, &[], |_| false) == 0 {
+            if self.run_plain(left, &[], |_| false) == 0 {
                 let next = self.steps + 1;
                 self.run_loop(limit, |m| m.steps >= next, |_| {});
             }
@@ -608,6 +601,15 @@ impl super::Profile {
 }
 
 /// The locations a plain statement writes.
+/// Every location a statement of `flat` other than `Full` may write.
+pub fn flat_writes(flat: &[Flat]) -> WriteSet {
+    let mut set = WriteSet::default();
+    for &op in flat {
+        note_flat_writes(op, &mut set);
+    }
+    set
+}
+
 fn note_flat_writes(op: Flat, set: &mut WriteSet) {
     use super::view::{DATA, PREG_INDEX, VARS, data_loc};
     use crate::machine::Loc;

@@ -339,6 +339,8 @@ fn flat_stmt(op: &Op, len: u32) -> Flat {
 pub struct Program {
     /// `stmts` pre-decoded for the fast loop.
     pub flat: Vec<Flat>,
+    /// Every location a statement of `flat` other than `Full` may write.
+    pub flat_writes: crate::machine::WriteSet,
     pub stmts: Vec<Stmt>,
     pub vars: Vec<Var>,
     pub labels: Vec<(String, u32)>,

@@ -1,0 +1,203 @@
+//! DL205's fast loop: each instruction pre-decoded once into a [`Flat`] op that runs with one
+//! dispatch, and whole scans run without the per-instruction record the views read (the last
+//! instruction, ACC and L1 before it, what it did to the stack, the step counters). The rung
+//! power after each instruction is kept, as the ladder view shows it. END, the last
+//! instruction of every program, runs in the full executor, so a machine leaves the fast loop
+//! exactly as the executor leaves it at a scan's end.
+
+use std::sync::Arc;
+
+use super::program::{Bit, D, Instr, Op, Test, W};
+use super::view::{ACC, V, bit_loc, kind_space};
+use super::{Dl205, LEVELS};
+use crate::machine::{Loc, WriteSet};
+
+/// An instruction with its operands resolved; `Output` is an output instruction the fast loop
+/// hands to the executor's output step (the math, whose own work outweighs a dispatch).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Flat {
+    Str(Test),
+    And(Test),
+    Or(Test),
+    AndStr,
+    OrStr,
+    Coil(Bit),
+    Nop,
+    /// LD K, LDD K, LDA.
+    LoadConst(u32),
+    /// LD V.
+    LoadWord(u32),
+    /// LDD V.
+    LoadPair(u32),
+    OutWord(u32),
+    OutPair(u32),
+    Pop,
+    Output(Op),
+    /// END: the executor ends the scan.
+    Full,
+}
+
+/// The fast form of each instruction.
+pub fn flatten(instrs: &[Instr]) -> Vec<Flat> {
+    instrs
+        .iter()
+        .map(|instr| match instr.op {
+            Op::Str(t) => Flat::Str(t),
+            Op::And(t) => Flat::And(t),
+            Op::Or(t) => Flat::Or(t),
+            Op::AndStr => Flat::AndStr,
+            Op::OrStr => Flat::OrStr,
+            Op::Coil(b) => Flat::Coil(b),
+            Op::Nop => Flat::Nop,
+            Op::Ld(W::K(k)) => Flat::LoadConst(u32::from(k)),
+            Op::Ldd(D::K(k)) | Op::Lda(k) => Flat::LoadConst(k),
+            Op::Ld(W::V(a)) => Flat::LoadWord(a),
+            Op::Ldd(D::V(a)) => Flat::LoadPair(a),
+            Op::OutV(a) => Flat::OutWord(a),
+            Op::OutD(a) => Flat::OutPair(a),
+            Op::Pop => Flat::Pop,
+            Op::End => Flat::Full,
+            op => Flat::Output(op),
+        })
+        .collect()
+}
+
+/// Every location a pass over `instrs` may write, as `note_writes` notes them one at a time.
+pub fn scan_writes(instrs: &[Instr]) -> WriteSet {
+    let mut set = WriteSet::default();
+    let mut accumulator = false;
+    for instr in instrs {
+        match instr.op {
+            Op::Coil(b) => set.insert(bit_loc(b)),
+            Op::Set(a, b) | Op::Rst(a, b) => {
+                (a.n..=b.n).for_each(|n| set.insert(Loc::new(kind_space(a.kind), n)));
+            }
+            Op::OutF(e, n) => {
+                (e.n..e.n + u32::from(n)).for_each(|i| set.insert(Loc::new(kind_space(e.kind), i)));
+            }
+            Op::OutV(a) | Op::IncB(a) | Op::DecB(a) => set.insert(Loc::new(V, a)),
+            Op::OutD(a) => {
+                set.insert(Loc::new(V, a));
+                set.insert(Loc::new(V, a + 1));
+            }
+            op if op.is_output() => accumulator = true,
+            _ => {}
+        }
+    }
+    if accumulator {
+        (0..=LEVELS as u32).for_each(|i| set.insert(Loc::new(ACC, i)));
+    }
+    set
+}
+
+impl Dl205 {
+    /// One instruction of the fast loop at `index`.
+    #[inline(always)]
+    fn run_flat(&mut self, index: usize, op: Flat) {
+        let power = self.bstack.last().copied().unwrap_or(false);
+        match op {
+            Flat::Str(t) => {
+                if self.bstack.is_empty() || self.rung_has_output {
+                    self.bstack.clear();
+                    self.rung_has_output = false;
+                }
+                let v = self.test(t);
+                if self.bstack.len() < LEVELS {
+                    self.bstack.push(v);
+                }
+            }
+            Flat::And(t) => {
+                let v = self.test(t);
+                if let Some(top) = self.bstack.last_mut() {
+                    *top &= v;
+                }
+            }
+            Flat::Or(t) => {
+                let v = self.test(t);
+                if let Some(top) = self.bstack.last_mut() {
+                    *top |= v;
+                }
+            }
+            Flat::AndStr | Flat::OrStr => {
+                if self.bstack.len() >= 2 {
+                    let b = self.bstack.pop().unwrap_or(false);
+                    let a = self.bstack.pop().unwrap_or(false);
+                    self.bstack
+                        .push(if op == Flat::AndStr { a && b } else { a || b });
+                }
+            }
+            Flat::Nop => {}
+            Flat::Coil(b) => {
+                self.rung_has_output = true;
+                self.set_bit(b, power);
+            }
+            Flat::Full => {
+                self.pc = index as u32;
+                self.step = index as u32;
+                self.execute();
+                return;
+            }
+            _ if !power => self.rung_has_output = true,
+            Flat::LoadConst(k) => {
+                self.rung_has_output = true;
+                self.load(k);
+            }
+            Flat::LoadWord(a) => {
+                self.rung_has_output = true;
+                let v = u32::from(self.v[a as usize]);
+                self.load(v);
+            }
+            Flat::LoadPair(a) => {
+                self.rung_has_output = true;
+                let v = self.pair(a);
+                self.load(v);
+            }
+            Flat::OutWord(a) => {
+                self.rung_has_output = true;
+                self.v[a as usize] = self.acc as u16;
+                self.load_pending = false;
+            }
+            Flat::OutPair(a) => {
+                self.rung_has_output = true;
+                self.v[a as usize] = self.acc as u16;
+                self.v[a as usize + 1] = (self.acc >> 16) as u16;
+                self.load_pending = false;
+            }
+            Flat::Pop => {
+                self.rung_has_output = true;
+                self.acc = self.pop();
+            }
+            Flat::Output(op) => {
+                self.rung_has_output = true;
+                // An error flag remembers the line it was raised on.
+                self.pc = index as u32;
+                self.output(op);
+            }
+        }
+        if let Some(p) = self.power.get_mut(index) {
+            *p = Some(self.bstack.last().copied().unwrap_or(false));
+        }
+    }
+
+    /// [`crate::machine::ScanSteps::fast_scan`].
+    pub(super) fn scan_fast(&mut self) -> bool {
+        let program = Arc::clone(&self.program);
+        let flat = &program.flat;
+        let len = program.instrs.len();
+        if self.step != 0 || len == 0 || flat.len() != len {
+            return false;
+        }
+        let last = len - 1;
+        let start = self.steps;
+        self.scan_start();
+        for (i, &op) in flat[..last].iter().enumerate() {
+            self.run_flat(i, op);
+        }
+        // The last instruction in the executor: it ends the scan with the full record.
+        self.pc = last as u32;
+        self.step = last as u32;
+        self.steps = start + last as u64;
+        self.execute();
+        true
+    }
+}
