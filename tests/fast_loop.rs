@@ -4,8 +4,11 @@
 //! "who wrote this?"), for random programs mixing plain commands with jumps, waits, moves,
 //! faults and edits.
 
+mod common;
+
 use std::sync::Arc;
 
+use common::channel_named;
 use proptest::prelude::*;
 use servoscope::debugger::history::{Change, Timeline, UserEvent};
 use servoscope::debugger::trace::Channel;
@@ -270,21 +273,6 @@ proptest! {
     }
 }
 
-/// A plot channel of the location `name` of `m`.
-fn channel_named(m: &dyn MachineView, name: &str) -> Channel {
-    let loc = m.find(name).unwrap_or_else(|| panic!("{name} exists"));
-    let info = m.info(loc).expect("a location has its description");
-    Channel {
-        loc,
-        name: name.to_string(),
-        label: name.to_string(),
-        width: info.width,
-        signed: info.signed,
-        group: 0,
-        expr: None,
-    }
-}
-
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(48))]
 
@@ -398,9 +386,10 @@ proptest! {
     }
 }
 
-/// A counter bumped all along while the plot holds still: its last write before tick 10,000
-/// lies in the first checkpoint stretch, which the quiet loop recorded whole, and is found
-/// there as from a recording observed tick by tick.
+/// A counter bumped all along while the plot holds still, in every dialect: its last write
+/// before tick 10,000 lies in the first checkpoint stretch, which the quiet loop recorded whole
+/// (with the write sets it notes without looking at each instruction), and is found there as
+/// from a recording observed tick by tick.
 #[test]
 fn a_write_inside_a_quiet_stretch_is_found() {
     fn last_write<M: Machine + std::fmt::Debug>(

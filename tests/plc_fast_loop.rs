@@ -3,25 +3,13 @@
 //! timeline recorded through the quiet loop holds exactly what one recorded scan by scan holds
 //! (trace, positions, checkpoints, "who wrote this?"), input switches and edits included.
 
+mod common;
+
+use common::channel_named;
 use proptest::prelude::*;
 use servoscope::debugger::history::{Change, Timeline, UserEvent};
 use servoscope::debugger::trace::Channel;
 use servoscope::machine::{Loc, Machine, MachineView, Pos};
-
-/// A plot channel of the location `name` of `m`.
-fn channel_named(m: &dyn MachineView, name: &str) -> Channel {
-    let loc = m.find(name).unwrap_or_else(|| panic!("{name} exists"));
-    let info = m.info(loc).expect("a location has its description");
-    Channel {
-        loc,
-        name: name.to_string(),
-        label: name.to_string(),
-        width: info.width,
-        signed: info.signed,
-        group: 0,
-        expr: None,
-    }
-}
 
 /// `legs` runs to increasing positions: the fast loop and the executor agree at each.
 fn fast_is_full<M: Machine + std::fmt::Debug>(
@@ -391,30 +379,4 @@ proptest! {
         quiet_is_observed(start, events, &plotted, &written, legs)
             .map_err(|e| TestCaseError::fail(format!("{e}\n{src}")))?;
     }
-}
-
-/// A counter bumped every scan while the plot holds still: its last write is found in the
-/// first checkpoint stretch, which the quiet loop recorded whole, right after the instruction
-/// (its step + 1).
-#[test]
-fn a_write_inside_a_quiet_stretch_is_found() {
-    fn last_write<M: Machine + std::fmt::Debug>(start: M, plotted: &str, counter: &str) {
-        let before = Pos::at_tick(10_000);
-        let channels = vec![channel_named(&start, plotted)];
-        let loc = start.find(counter).expect("a location of the dialect");
-        let mut quiet = Timeline::new(start.clone(), Vec::new(), channels.clone());
-        let mut observed = Timeline::new(start, Vec::new(), channels);
-        quiet.forward_unstopped(Pos::at_tick(30_000));
-        observed.forward(Pos::at_tick(30_000), |_| false);
-        let expected = Some(Pos {
-            tick: 9_999,
-            step: 2,
-        });
-        assert_eq!(quiet.find_write_back(before, loc), expected, "{counter}");
-        assert_eq!(observed.find_write_back(before, loc), expected, "{counter}");
-    }
-    let on = opennet("LODN M0\nINC(W) D0\nEND\n").expect("assembles");
-    last_write(on, "Q0", "D0");
-    let dl = dl205("STR SP1\nINCB V0\nEND\n").expect("assembles");
-    last_write(dl, "Y0", "V0");
 }

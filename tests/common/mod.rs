@@ -85,3 +85,18 @@ pub fn scratch_file(name: &str, text: &str) -> PathBuf {
     std::fs::write(&path, text).expect("write a scratch file");
     path
 }
+
+/// A plot channel of the location `name` of `m`.
+pub fn channel_named(m: &dyn MachineView, name: &str) -> servoscope::debugger::trace::Channel {
+    let loc = m.find(name).unwrap_or_else(|| panic!("{name} exists"));
+    let info = m.info(loc).expect("a location has its description");
+    servoscope::debugger::trace::Channel {
+        loc,
+        name: name.to_string(),
+        label: name.to_string(),
+        width: info.width,
+        signed: info.signed,
+        group: 0,
+        expr: None,
+    }
+}

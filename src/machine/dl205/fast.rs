@@ -96,36 +96,11 @@ impl Dl205 {
     fn run_flat(&mut self, index: usize, op: Flat) {
         let power = self.bstack.last().copied().unwrap_or(false);
         match op {
-            Flat::Str(t) => {
-                if self.bstack.is_empty() || self.rung_has_output {
-                    self.bstack.clear();
-                    self.rung_has_output = false;
-                }
-                let v = self.test(t);
-                if self.bstack.len() < LEVELS {
-                    self.bstack.push(v);
-                }
-            }
-            Flat::And(t) => {
-                let v = self.test(t);
-                if let Some(top) = self.bstack.last_mut() {
-                    *top &= v;
-                }
-            }
-            Flat::Or(t) => {
-                let v = self.test(t);
-                if let Some(top) = self.bstack.last_mut() {
-                    *top |= v;
-                }
-            }
-            Flat::AndStr | Flat::OrStr => {
-                if self.bstack.len() >= 2 {
-                    let b = self.bstack.pop().unwrap_or(false);
-                    let a = self.bstack.pop().unwrap_or(false);
-                    self.bstack
-                        .push(if op == Flat::AndStr { a && b } else { a || b });
-                }
-            }
+            Flat::Str(t) => self.contact_str(t),
+            Flat::And(t) => self.contact_and(t),
+            Flat::Or(t) => self.contact_or(t),
+            Flat::AndStr => self.join_top(true),
+            Flat::OrStr => self.join_top(false),
             Flat::Nop => {}
             Flat::Coil(b) => {
                 self.rung_has_output = true;

@@ -352,6 +352,45 @@ impl Dl205 {
         self.zn();
     }
 
+    /// STR: a new level on the boolean stack (a rung's first clears it).
+    #[inline(always)]
+    fn contact_str(&mut self, t: Test) {
+        if self.bstack.is_empty() || self.rung_has_output {
+            self.bstack.clear();
+            self.rung_has_output = false;
+        }
+        let v = self.test(t);
+        if self.bstack.len() < LEVELS {
+            self.bstack.push(v);
+        }
+    }
+
+    #[inline(always)]
+    fn contact_and(&mut self, t: Test) {
+        let v = self.test(t);
+        if let Some(top) = self.bstack.last_mut() {
+            *top &= v;
+        }
+    }
+
+    #[inline(always)]
+    fn contact_or(&mut self, t: Test) {
+        let v = self.test(t);
+        if let Some(top) = self.bstack.last_mut() {
+            *top |= v;
+        }
+    }
+
+    /// ANDSTR (`and`) / ORSTR: the top two levels become one.
+    #[inline(always)]
+    fn join_top(&mut self, and: bool) {
+        if self.bstack.len() >= 2 {
+            let b = self.bstack.pop().unwrap_or(false);
+            let a = self.bstack.pop().unwrap_or(false);
+            self.bstack.push(if and { a && b } else { a || b });
+        }
+    }
+
     fn execute(&mut self) {
         let index = self.pc as usize;
         let op = self.program.instrs[index].op;
@@ -360,35 +399,11 @@ impl Dl205 {
         let power = self.bstack.last().copied().unwrap_or(false);
         self.last_ran = true;
         match op {
-            Op::Str(t) => {
-                if self.bstack.is_empty() || self.rung_has_output {
-                    self.bstack.clear();
-                    self.rung_has_output = false;
-                }
-                let v = self.test(t);
-                if self.bstack.len() < LEVELS {
-                    self.bstack.push(v);
-                }
-            }
-            Op::And(t) => {
-                let v = self.test(t);
-                if let Some(top) = self.bstack.last_mut() {
-                    *top &= v;
-                }
-            }
-            Op::Or(t) => {
-                let v = self.test(t);
-                if let Some(top) = self.bstack.last_mut() {
-                    *top |= v;
-                }
-            }
-            Op::AndStr | Op::OrStr => {
-                if self.bstack.len() >= 2 {
-                    let b = self.bstack.pop().unwrap_or(false);
-                    let a = self.bstack.pop().unwrap_or(false);
-                    self.bstack.push(if op == Op::AndStr { a && b } else { a || b });
-                }
-            }
+            Op::Str(t) => self.contact_str(t),
+            Op::And(t) => self.contact_and(t),
+            Op::Or(t) => self.contact_or(t),
+            Op::AndStr => self.join_top(true),
+            Op::OrStr => self.join_top(false),
             Op::End | Op::Nop => {}
             Op::Coil(b) => {
                 self.rung_has_output = true;
