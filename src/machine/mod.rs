@@ -582,6 +582,41 @@ impl Quiet {
     }
 }
 
+/// Where a fast loop may have been: every instruction it entered at (where it began, each jump's
+/// target) up to every one it left from (each jump, where it ended), as one range. A loop that
+/// ran in a corner of a program notes only that corner's writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Span {
+    lo: usize,
+    hi: usize,
+}
+
+impl Default for Span {
+    fn default() -> Self {
+        Span {
+            lo: usize::MAX,
+            hi: 0,
+        }
+    }
+}
+
+impl Span {
+    /// A run from `from` (left there) to `to` (entered there).
+    #[inline(always)]
+    pub fn jump(&mut self, from: usize, to: usize) {
+        self.lo = self.lo.min(to);
+        self.hi = self.hi.max(from);
+    }
+
+    /// The instructions of a program of `len` the loop may have run, while that is a small
+    /// part of it for `ran` instructions run (else None: count the whole program).
+    pub fn narrow(&self, len: usize, ran: u64) -> Option<std::ops::Range<usize>> {
+        let hi = self.hi.min(len.saturating_sub(1));
+        let width = hi.checked_sub(self.lo)? as u64 + 1;
+        (width <= ran.saturating_mul(4).saturating_add(64)).then_some(self.lo..hi + 1)
+    }
+}
+
 /// A 256-bit Bloom set of locations.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct WriteSet([u64; 4]);
@@ -609,5 +644,34 @@ impl WriteSet {
         for (a, b) in self.0.iter_mut().zip(other.0) {
             *a |= b;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Span;
+
+    #[test]
+    fn a_span_covers_each_stretch_from_its_entry_to_its_exit() {
+        // Began at 0, ran to the jump at 4, looped 2..=4 many times, ended at 3.
+        let mut span = Span::default();
+        span.jump(4, 2);
+        span.jump(4, 2);
+        span.jump(3, 0);
+        assert_eq!(span.narrow(1_000, 20), Some(0..5));
+        // A loop at the end of a long program: only its corner.
+        let mut late = Span::default();
+        late.jump(905, 900);
+        late.jump(903, 900);
+        assert_eq!(late.narrow(1_000, 100), Some(900..906));
+        // Nothing run, or most of a program for few instructions run: no narrowing.
+        assert_eq!(Span::default().narrow(1_000, 0), None);
+        let mut wide = Span::default();
+        wide.jump(990, 3);
+        assert_eq!(wide.narrow(1_000, 10), None);
+        // The end past the program is cut to it.
+        let mut past = Span::default();
+        past.jump(12, 8);
+        assert_eq!(past.narrow(10, 5), Some(8..10));
     }
 }

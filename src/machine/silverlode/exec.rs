@@ -679,13 +679,14 @@ impl SilverLode {
     /// Run plain commands ([`Op`]: registers and flags only, one tick each) while the machine
     /// runs and the motor rests, exactly as `tick` would, with the bookkeeping done once at the
     /// end. Stops after `max` commands, before a command the full executor must run, and, when
-    /// `GUARDED`, before a command `stops` marks (but not the first when it was `asked`).
-    /// Returns how many commands ran.
+    /// `GUARDED`, before a command `stops` marks (but not the first when it was `asked`), and
+    /// then widens `span` to the commands it may have run. Returns how many commands ran.
     pub(super) fn run_plain<const GUARDED: bool>(
         &mut self,
         max: u64,
         stops: &[bool],
         asked: bool,
+        span: &mut crate::machine::Span,
     ) -> u64 {
         if self.s.run != RunState::Running || !self.motion_idle() {
             return 0;
@@ -696,6 +697,7 @@ impl SilverLode {
         let mut isw = s.isw;
         let mut pc = s.pc as usize;
         let mut last = s.last;
+        let entry = pc;
         let mut n = 0u64;
         while n < max {
             let Some(&op) = flat.get(pc) else {
@@ -796,6 +798,9 @@ impl SilverLode {
                     (r, x.wrapping_sub(1), acc, x)
                 }
                 Op::Jmp { target } => {
+                    if GUARDED {
+                        span.jump(pc, target as usize);
+                    }
                     last = LastExec {
                         pc: pc as u32,
                         vals: [1, 0, 0, 0],
@@ -816,6 +821,9 @@ impl SilverLode {
                         vals: [i32::from(taken), 0, 0, 0],
                         outcome: Outcome::Done,
                     };
+                    if GUARDED && taken {
+                        span.jump(pc, target as usize);
+                    }
                     pc = if taken { target as usize } else { pc + 1 };
                     n += 1;
                     continue;
@@ -833,6 +841,9 @@ impl SilverLode {
             n += 1;
         }
         if n > 0 {
+            if GUARDED {
+                span.jump(pc, entry);
+            }
             s.isw = isw;
             s.pc = pc as u32;
             s.last = last;
@@ -853,7 +864,8 @@ impl SilverLode {
             if self.s.ticks >= tick_limit {
                 return StopReason::TickLimit;
             }
-            if self.run_plain::<false>(tick_limit - self.s.ticks, &[], false) == 0 {
+            let mut unused = crate::machine::Span::default();
+            if self.run_plain::<false>(tick_limit - self.s.ticks, &[], false, &mut unused) == 0 {
                 self.tick();
             }
         }

@@ -544,12 +544,13 @@ impl Machine for SilverLode {
             quiet.stopping = quiet.stops.iter().filter(|&&s| s).count();
         }
         let (halts, stops) = (&quiet.halts, &quiet.stops);
-        // Nothing to stop before: the bare loop.
-        let run = |m: &mut Self, max: u64, asked: bool| {
+        let mut span = crate::machine::Span::default();
+        let mut run = |m: &mut Self, max: u64, asked: bool| {
+            // Nothing to stop before: the loop asks nothing but still keeps its span.
             if quiet.stopping == 0 {
-                m.run_plain::<false>(max, &[], asked)
+                m.run_plain::<true>(max, &[], asked, &mut span)
             } else {
-                m.run_plain::<true>(max, stops, asked)
+                m.run_plain::<true>(max, stops, asked, &mut span)
             }
         };
         let start = self.s.steps;
@@ -585,9 +586,15 @@ impl Machine for SilverLode {
                 break StopReason::TickLimit;
             }
         };
-        if self.s.steps > start {
-            // Every register a plain command may write: the commands that ran are among them.
-            quiet.written.union(program.flat_writes);
+        let ran = self.s.steps - start;
+        if ran > 0 {
+            // The registers the commands it may have run write: those of its span, or of the
+            // whole program when the span is most of it.
+            match span.narrow(program.flat.len(), ran) {
+                Some(range) => (program.flat[range].iter().filter_map(|op| op.writes()))
+                    .for_each(|r| quiet.written.insert(reg(u32::from(r)))),
+                None => quiet.written.union(program.flat_writes),
+            }
         }
         Some(reason)
     }

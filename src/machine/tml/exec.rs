@@ -5,7 +5,7 @@ use super::program::{AddKind, Data, EventSpec, Flat, Op, Operand, Slot, Value};
 use super::{
     Event, Fault, LastMultiply, PREG_MASK, STACK_DEPTH, STATEMENTS_PER_TICK, Tml, d, der, mer, srl,
 };
-use crate::machine::{MachineView, Pos, Quiet, StopReason, WriteSet};
+use crate::machine::{MachineView, Pos, Quiet, Span, StopReason, WriteSet};
 
 /// What one statement did.
 enum Outcome {
@@ -340,16 +340,19 @@ impl Tml {
     /// tick as its instruction phase fills. Stops before a statement the full executor must
     /// run. Returns how many ran.
     ///
-    /// `tick_done` is asked after each tick and ends the run when it says so.
+    /// `tick_done` is asked after each tick and ends the run when it says so; `span` widens to
+    /// the statements it may have run.
     fn run_plain<T: FnMut(&Self) -> bool>(
         &mut self,
         max: u64,
         halts: &[bool],
+        span: &mut Span,
         mut tick_done: T,
     ) -> u64 {
         if !self.is_live() || self.wait_since.is_some() {
             return 0;
         }
+        let entry = self.pc as usize;
         let len = self.program.flat.len();
         let mut n = 0;
         while n < max {
@@ -434,6 +437,7 @@ impl Tml {
                     self.multiply(index, va, vb, left, n)
                 }
                 Flat::Goto { target } => {
+                    span.jump(index, target as usize);
                     next = target;
                     [0, 1, 0]
                 }
@@ -445,6 +449,7 @@ impl Tml {
                         break;
                     }
                     if taken {
+                        span.jump(index, target as usize);
                         next = target;
                     }
                     [v, i64::from(taken), 0]
@@ -464,6 +469,9 @@ impl Tml {
             if tick_over && tick_done(self) {
                 break;
             }
+        }
+        if n > 0 {
+            span.jump(self.pc as usize, entry);
         }
         n
     }
@@ -487,6 +495,7 @@ impl Tml {
         self.note_writes(&mut written);
         self.note_motion(&mut written);
         let start = self.steps;
+        let mut span = Span::default();
         let (halts, watched, held) = (&quiet.halts, &quiet.watched, &quiet.held);
         let mut changed = false;
         let reason = loop {
@@ -498,7 +507,7 @@ impl Tml {
                 break StopReason::TickLimit;
             }
             let left = (limit.tick - now.tick).saturating_mul(u64::from(STATEMENTS_PER_TICK));
-            let ran = self.run_plain(left, halts, |m| {
+            let ran = self.run_plain(left, halts, &mut span, |m| {
                 changed = watched.iter().zip(held).any(|(&loc, &was)| m.read(loc) != was);
                 changed
             });
@@ -508,9 +517,16 @@ impl Tml {
                 break StopReason::TickLimit;
             }
         };
-        if self.steps > start {
-            // Every destination of a plain statement: those that ran are among them.
-            written.union(program.flat_writes);
+        let ran = self.steps - start;
+        if ran > 0 {
+            // The destinations of the statements it may have run: those of its span, or of the
+            // whole program when the span is most of it.
+            match span.narrow(program.flat.len(), ran) {
+                Some(range) => program.flat[range]
+                    .iter()
+                    .for_each(|&op| note_flat_writes(op, &mut written)),
+                None => written.union(program.flat_writes),
+            }
             quiet.written.union(written);
         }
         reason
@@ -547,7 +563,7 @@ impl Tml {
                 .saturating_mul(u64::from(STATEMENTS_PER_TICK))
                 .saturating_add(u64::from(limit.step))
                 .saturating_sub(u64::from(now.step));
-            if self.run_plain(left, &[], |_| false) == 0 {
+            if self.run_plain(left, &[], &mut Span::default(), |_| false) == 0 {
                 let next = self.steps + 1;
                 self.run_loop(limit, |m| m.steps >= next, |_| {});
             }
