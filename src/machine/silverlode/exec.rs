@@ -679,9 +679,9 @@ impl SilverLode {
     /// Run plain commands ([`Op`]: registers and flags only, one tick each) while the machine
     /// runs and the motor rests, exactly as `tick` would, with the bookkeeping done once at the
     /// end. Stops after `max` commands, before a command the full executor must run, and, when
-    /// `GUARDED`, before a command `stops` marks (but not the first when it was `asked`), and
-    /// then widens `span` to the commands it may have run. Returns how many commands ran.
-    pub(super) fn run_plain<const GUARDED: bool>(
+    /// `STOPS`, before a command `stops` marks (but not the first when it was `asked`). With
+    /// `SPAN`, widens `span` to the commands it may have run. Returns how many commands ran.
+    pub(super) fn run_plain<const STOPS: bool, const SPAN: bool>(
         &mut self,
         max: u64,
         stops: &[bool],
@@ -704,7 +704,7 @@ impl SilverLode {
                 break;
             };
             // (The first command's halt was asked already when `asked`.)
-            if GUARDED && stops.get(pc) == Some(&true) && !(asked && n == 0) {
+            if STOPS && stops.get(pc) == Some(&true) && !(asked && n == 0) {
                 break;
             }
             // (register written, value, operands for the explanation)
@@ -798,7 +798,7 @@ impl SilverLode {
                     (r, x.wrapping_sub(1), acc, x)
                 }
                 Op::Jmp { target } => {
-                    if GUARDED {
+                    if SPAN {
                         span.jump(pc, target as usize);
                     }
                     last = LastExec {
@@ -821,7 +821,7 @@ impl SilverLode {
                         vals: [i32::from(taken), 0, 0, 0],
                         outcome: Outcome::Done,
                     };
-                    if GUARDED && taken {
+                    if SPAN && taken {
                         span.jump(pc, target as usize);
                     }
                     pc = if taken { target as usize } else { pc + 1 };
@@ -841,7 +841,7 @@ impl SilverLode {
             n += 1;
         }
         if n > 0 {
-            if GUARDED {
+            if SPAN {
                 span.jump(pc, entry);
             }
             s.isw = isw;
@@ -865,7 +865,8 @@ impl SilverLode {
                 return StopReason::TickLimit;
             }
             let mut unused = crate::machine::Span::default();
-            if self.run_plain::<false>(tick_limit - self.s.ticks, &[], false, &mut unused) == 0 {
+            let left = tick_limit - self.s.ticks;
+            if self.run_plain::<false, false>(left, &[], false, &mut unused) == 0 {
                 self.tick();
             }
         }

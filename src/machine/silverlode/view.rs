@@ -546,11 +546,11 @@ impl Machine for SilverLode {
         let (halts, stops) = (&quiet.halts, &quiet.stops);
         let mut span = crate::machine::Span::default();
         let mut run = |m: &mut Self, max: u64, asked: bool| {
-            // Nothing to stop before: the loop asks nothing but still keeps its span.
+            // Nothing to stop before: the loop that looks at no table.
             if quiet.stopping == 0 {
-                m.run_plain::<true>(max, &[], asked, &mut span)
+                m.run_plain::<false, true>(max, &[], asked, &mut span)
             } else {
-                m.run_plain::<true>(max, stops, asked, &mut span)
+                m.run_plain::<true, true>(max, stops, asked, &mut span)
             }
         };
         let start = self.s.steps;
