@@ -23,7 +23,7 @@ fn benches(c: &mut Criterion) {
     let Ok(start) = (dialect.open)(ARITHMETIC, &dialect.default_settings()) else {
         panic!("the bench program assembles")
     };
-    let cases: [(&str, Vec<Breakpoint>); 4] = [
+    let cases: [(&str, Vec<Breakpoint>); 5] = [
         ("no breakpoint", Vec::new()),
         (
             "a conditional breakpoint, asked every round",
@@ -38,6 +38,10 @@ fn benches(c: &mut Criterion) {
         (
             "a data breakpoint (R24 equals 1)",
             vec![Breakpoint::data("R24", DataTrigger::Equal(1))],
+        ),
+        (
+            "a data breakpoint on a register the loop never writes (R30 written)",
+            vec![Breakpoint::data("R30", DataTrigger::Write)],
         ),
     ];
     let mut group = c.benchmark_group("run with breakpoints (commands)");

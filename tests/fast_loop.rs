@@ -422,3 +422,68 @@ fn a_write_inside_a_quiet_stretch_is_found() {
         })
     );
 }
+
+/// Run to `end` with one data breakpoint (and a line breakpoint with an odd condition),
+/// resuming past each stop as the debugger does: where each stop came, through the quiet loop
+/// (which halts before a write of the location) or the observed path.
+fn data_stops<M: Machine>(
+    t: &mut Timeline<M>,
+    quiet: bool,
+    breakpoint: &servoscope::debugger::Breakpoint,
+    line: usize,
+    end: Pos,
+) -> Vec<(servoscope::machine::StopReason, Pos)> {
+    use servoscope::debugger::breakpoints::Checker;
+    let list = [
+        breakpoint.clone(),
+        servoscope::debugger::Breakpoint::line(line).with_condition("R25 % 3 != 1"),
+    ];
+    let checker = std::cell::RefCell::new(Checker::new(&list, &t.machine));
+    let (lines, guarded) = checker.borrow().quiet_plan();
+    let mut out = Vec::new();
+    for _ in 0..8 {
+        let start = t.machine.pos();
+        let stop = |m: &M| m.pos() != start && checker.borrow_mut().check(m);
+        let reason = if quiet {
+            t.forward_quiet(end, lines.clone(), guarded.clone(), stop)
+        } else {
+            t.forward(end, stop)
+        };
+        out.push((reason, t.machine.pos()));
+        if reason != servoscope::machine::StopReason::Predicate {
+            break;
+        }
+    }
+    out
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(96))]
+
+    #[test]
+    fn data_breakpoints_stop_the_quiet_loop_where_they_stop_the_observed_run(
+        src in program(),
+        r in prop::sample::select(vec![1u32, 6, 20, 21, 22, 23]),
+        trigger in prop_oneof![
+            Just(servoscope::debugger::DataTrigger::Write),
+            Just(servoscope::debugger::DataTrigger::Change),
+            (-3i64..40).prop_map(servoscope::debugger::DataTrigger::Equal),
+        ],
+        line in 1usize..16,
+        ticks in 1u64..20_000,
+    ) {
+        let start = machine(&src);
+        let breakpoint = servoscope::debugger::Breakpoint::data(format!("R{r}"), trigger);
+        let channels = vec![channel(0), channel(22)];
+        let mut quiet = Timeline::new(start.clone(), Vec::new(), channels.clone());
+        let mut observed = Timeline::new(start, Vec::new(), channels);
+        let end = Pos::at_tick(ticks);
+        prop_assert_eq!(
+            data_stops(&mut quiet, true, &breakpoint, line, end),
+            data_stops(&mut observed, false, &breakpoint, line, end),
+            "{}", src
+        );
+        prop_assert_eq!(&quiet.machine, &observed.machine);
+        prop_assert!(quiet.trace.samples().eq(observed.trace.samples()));
+    }
+}

@@ -259,14 +259,14 @@ impl Checker {
         c
     }
 
-    /// The lines it stops on, when it is asked only there (no data breakpoints): then only
-    /// the boundaries before those lines need asking.
-    pub fn only_lines(&self) -> Option<Vec<usize>> {
-        self.data.is_empty().then(|| {
-            (0..self.by_line.len())
-                .filter(|&l| !self.by_line[l].is_empty())
-                .collect()
-        })
+    /// Where it needs asking: before its lines, and after an instruction that wrote one of its
+    /// data breakpoints' locations (until one is written, a data breakpoint cannot fire: its
+    /// value and "written" stay as they were).
+    pub fn quiet_plan(&self) -> (Vec<usize>, Vec<Loc>) {
+        let lines = (0..self.by_line.len())
+            .filter(|&l| !self.by_line[l].is_empty())
+            .collect();
+        (lines, self.data.iter().map(|d| d.loc).collect())
     }
 
     pub fn is_empty(&self) -> bool {

@@ -39,18 +39,19 @@ impl StopWhen<'_> {
             && self.checker.is_none()
     }
 
-    /// The lines before which it may stop, when those are the only boundaries it needs to
-    /// see (line breakpoints and run to line; not a step, a data breakpoint or the error lamp).
-    pub fn only_lines(&self) -> Option<Vec<usize>> {
+    /// The lines before which it may stop and the locations after whose writes it may stop,
+    /// when those are the only boundaries it needs to see (breakpoints and run to line; not a
+    /// step or the error lamp).
+    pub fn quiet_plan(&self) -> Option<(Vec<usize>, Vec<Loc>)> {
         if self.any || self.on_error || self.after.is_some() {
             return None;
         }
-        let mut lines = match self.checker {
-            Some(c) => c.borrow().only_lines()?,
-            None => Vec::new(),
+        let (mut lines, written) = match self.checker {
+            Some(c) => c.borrow().quiet_plan(),
+            None => (Vec::new(), Vec::new()),
         };
         lines.extend(self.line);
-        Some(lines)
+        Some((lines, written))
     }
 
     /// Whether to stop before the instruction `m` is about to run.
@@ -150,8 +151,8 @@ impl<M: Machine> Engine for Core<M> {
             }
             stop.holds(m)
         };
-        if let Some(lines) = stop.only_lines() {
-            return self.timeline.forward_lines(limit, lines, asked);
+        if let Some((lines, written)) = stop.quiet_plan() {
+            return self.timeline.forward_quiet(limit, lines, written, asked);
         }
         self.timeline.forward(limit, asked)
     }

@@ -294,6 +294,20 @@ impl<M: Machine> Timeline<M> {
         &mut self,
         limit: Pos,
         lines: Vec<usize>,
+        stop: F,
+    ) -> StopReason {
+        self.forward_quiet(limit, lines, Vec::new(), stop)
+    }
+
+    /// [`Timeline::forward_lines`] for a run that `stop` may also end right after an
+    /// instruction that wrote one of `guarded` (data breakpoints): the quiet loop halts before
+    /// such an instruction, and the timeline runs it, asking as usual. Where the machine cannot
+    /// see a write coming, every boundary is asked.
+    pub fn forward_quiet<F: FnMut(&M) -> bool>(
+        &mut self,
+        limit: Pos,
+        lines: Vec<usize>,
+        guarded: Vec<Loc>,
         mut stop: F,
     ) -> StopReason {
         // A plotted expression may read anything: every tick must be looked at.
@@ -303,6 +317,7 @@ impl<M: Machine> Timeline<M> {
         let mut quiet = Quiet {
             watched: self.channels.iter().map(|c| c.loc).collect(),
             lines,
+            guarded,
             ..Quiet::default()
         };
         // Ticks observed when the quiet loop could not start: more while it keeps failing, so
@@ -317,7 +332,10 @@ impl<M: Machine> Timeline<M> {
                 Pos::at_tick((now.tick / CHECKPOINT_EVERY + 1).saturating_mul(CHECKPOINT_EVERY));
             let event_due = self.events.get(self.next_event).map(|e| e.at);
             let until = limit.min(checkpoint_due).min(event_due.unwrap_or(limit));
-            let progressed = if until > now {
+            // Right after a write of a data breakpoint's location (where an observed stretch
+            // ended, unasked), the boundary is the timeline's to ask.
+            let unasked_write = quiet.guarded.iter().any(|&loc| self.machine.wrote(loc));
+            let progressed = if until > now && !unasked_write {
                 let Some(reason) = self.machine.run_quiet(until, &mut quiet, &mut stop) else {
                     return self.forward(limit, stop);
                 };

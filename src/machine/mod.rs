@@ -410,6 +410,10 @@ pub fn run_scans_quiet<M: ScanSteps>(
     limit: Pos,
     quiet: &mut Quiet,
 ) -> Option<StopReason> {
+    // A scan's writes are seen only at its end, too late for a data breakpoint.
+    if !quiet.guarded.is_empty() {
+        return None;
+    }
     if quiet
         .halts_for(m.instruction_count(), |i| m.instruction_line(i))
         .contains(&true)
@@ -552,6 +556,9 @@ pub struct Quiet {
     pub watched: Vec<Loc>,
     /// Stop before an instruction on one of these lines (breakpoints).
     pub lines: Vec<usize>,
+    /// Stop before an instruction that would write one of these (data breakpoints); a machine
+    /// that cannot see a write coming has no quiet loop while this holds any.
+    pub guarded: Vec<Loc>,
     /// The locations the run wrote.
     pub written: WriteSet,
     /// The machine's own table of where to halt, made from `lines` at its first call.

@@ -518,8 +518,9 @@ impl Machine for SilverLode {
         quiet: &mut crate::machine::Quiet,
         stop: &mut dyn FnMut(&Self) -> bool,
     ) -> Option<StopReason> {
+        // Plotted registers and those of data breakpoints: a write to one ends the stretch.
         let mut guard = [false; REGISTERS];
-        for loc in &quiet.watched {
+        for loc in quiet.watched.iter().chain(&quiet.guarded) {
             if loc.space != REGS || loc.index as usize >= REGISTERS {
                 return None;
             }
@@ -582,7 +583,8 @@ impl Machine for SilverLode {
                 break StopReason::TickLimit;
             }
             if program.flat.get(pc).is_some_and(|&op| guarded(op)) {
-                // It wrote a plotted register: the last command of the stretch.
+                // It wrote a watched register: the last command of the stretch, and the
+                // timeline asks the boundary after it.
                 break StopReason::TickLimit;
             }
         };

@@ -506,6 +506,10 @@ impl Machine for Tml {
         quiet: &mut crate::machine::Quiet,
         _stop: &mut dyn FnMut(&Self) -> bool,
     ) -> Option<StopReason> {
+        // The fast loop compares at tick ends: too late for a data breakpoint.
+        if !quiet.guarded.is_empty() {
+            return None;
+        }
         Some(self.run_quiet_to(limit, quiet))
     }
 }
