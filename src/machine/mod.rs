@@ -524,7 +524,8 @@ pub trait Machine: MachineView + Clone + PartialEq {
     ///
     /// Before an instruction on a line of `quiet.lines` the run either returns (`TickLimit`) for
     /// the timeline to ask, or asks `stop` itself and returns `Predicate` when it holds; never
-    /// both for one boundary.
+    /// both for one boundary. An instruction that would write a location of `quiet.guarded` is
+    /// either left to the timeline or is the last one the run runs.
     fn run_quiet(
         &mut self,
         _limit: Pos,
