@@ -39,11 +39,44 @@ pub fn resolve(target: &Path) -> std::io::Result<PathBuf> {
     )))
 }
 
+/// How the temporary files of our saves end.
+const TEMP_SUFFIX: &str = ".servoscope-tmp";
+/// A temporary file untouched this long belongs to a save that was killed, not to one under
+/// way (a save writes its file in well under a second).
+const STALE_AFTER: std::time::Duration = std::time::Duration::from_secs(60);
+
+/// Remove the temporary files killed saves left in `dir` (ours only: `.NAME.servoscope-tmp`,
+/// untouched for a minute). Called on every save, and on start for the folders of recent
+/// files. Errors are ignored: this is tidying, never a reason for a save to fail.
+pub fn remove_stale_temporaries(dir: &Path) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    let now = std::time::SystemTime::now();
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        if !(name.starts_with('.') && name.ends_with(TEMP_SUFFIX)) {
+            continue;
+        }
+        let stale = entry
+            .metadata()
+            .ok()
+            .filter(std::fs::Metadata::is_file)
+            .and_then(|m| m.modified().ok())
+            .and_then(|modified| now.duration_since(modified).ok())
+            .is_some_and(|age| age >= STALE_AFTER);
+        if stale {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+}
+
 fn temp_path(target: &Path) -> PathBuf {
     let name = target
         .file_name()
         .map_or_else(|| "servoscope".into(), |n| n.to_string_lossy().into_owned());
-    target.with_file_name(format!(".{name}.servoscope-tmp"))
+    target.with_file_name(format!(".{name}{TEMP_SUFFIX}"))
 }
 
 /// Give the new file the old one's permissions and owner (the owner only where allowed).
@@ -83,6 +116,13 @@ pub fn write_atomically(
     if result.is_err() {
         let _ = std::fs::remove_file(&temp);
     }
+    if let Some(dir) = target.parent() {
+        remove_stale_temporaries(if dir.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            dir
+        });
+    }
     result
 }
 
@@ -120,6 +160,27 @@ mod tests {
         );
         write_atomically(&target, |w| w.write_all(b"new")).unwrap();
         assert_eq!(std::fs::read_to_string(&target).unwrap(), "new");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn a_save_anywhere_in_a_folder_removes_what_killed_saves_left_there() {
+        let dir = dir("stale");
+        let old = dir.join(".killed.ron.servoscope-tmp");
+        let fresh = dir.join(".busy.ron.servoscope-tmp");
+        let theirs = dir.join(".notes.txt.swp");
+        for path in [&old, &fresh, &theirs] {
+            std::fs::write(path, "half").unwrap();
+        }
+        let an_hour_ago = std::time::SystemTime::now() - std::time::Duration::from_secs(3600);
+        for path in [&old, &theirs] {
+            let file = std::fs::File::options().write(true).open(path).unwrap();
+            file.set_modified(an_hour_ago).unwrap();
+        }
+        write_atomically(&dir.join("other.ron"), |w| w.write_all(b"x")).unwrap();
+        assert!(!old.exists(), "a killed save's leftover goes");
+        assert!(fresh.exists(), "a save that may be under way stays");
+        assert!(theirs.exists(), "other programs' files stay");
         let _ = std::fs::remove_dir_all(&dir);
     }
 

@@ -62,6 +62,25 @@ pub struct Session {
     pub furthest: Pos,
     pub marks: Vec<SessionMark>,
     pub view: ViewSettings,
+    /// The run had ended or faulted at `furthest`: restoring runs the instruction there again,
+    /// so the stop (its fault, flags and message) is restored too. Files from before this
+    /// field say so with a fault mark at `furthest`.
+    pub stopped: bool,
+    /// What reading the file dropped and why (breakpoints past the program's last line, marks
+    /// past the furthest position): shown to the user, never saved.
+    #[serde(skip)]
+    pub warnings: Vec<String>,
+}
+
+/// Bounds on what a session file may ask for, far above anything servoscope writes: a number
+/// in a damaged or hostile file is checked against these before anything is sized by it.
+pub mod limits {
+    /// Breakpoints (either list), watches and view formats, each.
+    pub const LIST: usize = 10_000;
+    /// User edits and timeline marks, each.
+    pub const EVENTS: usize = 1_000_000;
+    /// Characters of one condition, message, watch, channel, location or program name.
+    pub const TEXT: usize = 4_096;
 }
 
 /// One user edit, by location name.
@@ -129,9 +148,11 @@ pub enum SessionError {
         "{path} was saved by a newer servoscope (session format {found}); this one reads formats up to {FORMAT_VERSION}"
     )]
     Newer { path: String, found: u32 },
-    #[error("{path}: the program in the session does not assemble: {first} ({count} error(s))")]
+    #[error("{path}: its program {program} does not assemble: {first} ({count} error(s))")]
     Program {
         path: String,
+        /// The program's own name, with which `first` gives the program's line and column.
+        program: String,
         first: String,
         count: usize,
     },
@@ -141,6 +162,16 @@ pub enum SessionError {
         location: String,
         dialect: &'static str,
     },
+    #[error("{path}: edit {index} ({location} at {at}) cannot be made: {reason}")]
+    BadEvent {
+        path: String,
+        index: usize,
+        location: String,
+        at: Pos,
+        reason: String,
+    },
+    #[error("{path} cannot be honoured: {reason}")]
+    Unreasonable { path: String, reason: String },
     #[error("{path} asks to replay {ticks} ticks; servoscope replays at most {MAX_REPLAY_TICKS}")]
     TooLong { path: String, ticks: u64 },
     #[error("cannot encode the session: {0}")]
@@ -340,6 +371,7 @@ impl Session {
             events: named_events(run.machine, run.events),
             at: run.machine.pos(),
             furthest: run.machine.pos(),
+            stopped: !run.machine.run_state().is_live(),
             ..Session::default()
         }
     }
@@ -389,6 +421,7 @@ impl Session {
             break_on_error: debugger.break_on_error(),
             channels: (channels != defaults.as_slice()).then(|| channels.to_vec()),
             furthest: debugger.furthest(),
+            stopped: debugger.stopped_at_furthest(),
             marks: debugger
                 .marks()
                 .iter()
@@ -454,11 +487,100 @@ impl Session {
                 ),
             });
         }
-        if header.format == 1 {
+        let mut session: Session = if header.format == 1 {
             let old: v1::Session = ron::from_str(text).map_err(malformed)?;
-            return Ok(old.into());
+            old.into()
+        } else {
+            ron::from_str(text).map_err(malformed)?
+        };
+        session.check(path)?;
+        Ok(session)
+    }
+
+    /// Bound every number and list the file gives by what it refers to, before anything is
+    /// sized by it: refuse what cannot be honoured, drop (with a warning) breakpoints past the
+    /// program's last line and marks past the furthest position.
+    fn check(&mut self, path: &str) -> Result<(), SessionError> {
+        let refuse = |reason: String| SessionError::Unreasonable {
+            path: path.to_string(),
+            reason,
+        };
+        if self.program.len() > crate::text::MAX_FILE_BYTES {
+            return Err(refuse(format!(
+                "its program has {} bytes; servoscope opens programs of at most {}",
+                self.program.len(),
+                crate::text::MAX_FILE_BYTES
+            )));
         }
-        ron::from_str(text).map_err(malformed)
+        let counts = [
+            ("breakpoints", self.breakpoints.len(), limits::LIST),
+            ("breakpoints", self.breakpoint_list.len(), limits::LIST),
+            ("watches", self.watches.len(), limits::LIST),
+            ("register formats", self.view.formats.len(), limits::LIST),
+            ("edits", self.events.len(), limits::EVENTS),
+            ("marks", self.marks.len(), limits::EVENTS),
+            (
+                "plot channels",
+                self.channels.as_ref().map_or(0, Vec::len),
+                crate::debugger::trace::MAX_CHANNELS,
+            ),
+        ];
+        for (what, count, most) in counts {
+            if count > most {
+                return Err(refuse(format!("it has {count} {what}; at most {most} are kept")));
+            }
+        }
+        let texts = std::iter::once(self.program_name.as_str())
+            .chain(self.breakpoint_list.iter().flat_map(|b| {
+                let location = match &b.kind {
+                    crate::debugger::BreakKind::Data { location, .. } => location.as_str(),
+                    crate::debugger::BreakKind::Line(_) => "",
+                };
+                [b.condition.as_str(), b.log.as_str(), location]
+            }))
+            .chain(self.watches.iter().map(|w| w.expr.as_str()))
+            .chain(self.channels.iter().flatten().flat_map(|c| [c.location.as_str(), c.label.as_str()]))
+            .chain(self.events.iter().map(|e| e.location.as_str()))
+            .chain(self.view.formats.iter().map(|(name, _)| name.as_str()))
+            .chain(self.view.selected.as_deref());
+        for text in texts {
+            let chars = text.chars().count();
+            if chars > limits::TEXT {
+                let start: String = text.chars().take(24).collect();
+                return Err(refuse(format!(
+                    "a text of {chars} characters (\"{start}…\"); at most {} are kept",
+                    limits::TEXT
+                )));
+            }
+        }
+        let last = self.program.lines().count();
+        let past = |line: usize| line > last;
+        let mut dropped: Vec<usize> = self.breakpoints.iter().copied().filter(|&l| past(l)).collect();
+        self.breakpoints.retain(|&l| !past(l));
+        self.breakpoint_list.retain(|b| match b.line_number() {
+            Some(l) if past(l) => {
+                dropped.push(l);
+                false
+            }
+            _ => true,
+        });
+        dropped.sort_unstable();
+        dropped.dedup();
+        for line in dropped {
+            self.warnings.push(format!(
+                "the breakpoint on line {line} was dropped: the program has {last} lines"
+            ));
+        }
+        let furthest = self.furthest.max(self.at);
+        let marks = self.marks.len();
+        self.marks.retain(|m| m.at <= furthest);
+        if self.marks.len() < marks {
+            self.warnings.push(format!(
+                "{} timeline mark(s) after the furthest position {furthest} were dropped",
+                marks - self.marks.len()
+            ));
+        }
+        Ok(())
     }
 
     pub fn load(path: &Path) -> Result<Session, SessionError> {
@@ -510,7 +632,8 @@ impl Session {
     ) -> Result<Vec<UserEvent>, SessionError> {
         self.events
             .iter()
-            .map(|e| {
+            .enumerate()
+            .map(|(index, e)| {
                 let loc = m
                     .find(&e.location)
                     .ok_or_else(|| SessionError::UnknownLocation {
@@ -518,6 +641,17 @@ impl Session {
                         location: e.location.clone(),
                         dialect: m.dialect(),
                     })?;
+                let refused = |reason: String| SessionError::BadEvent {
+                    path: path.to_string(),
+                    index: index + 1,
+                    location: e.location.clone(),
+                    at: e.at,
+                    reason,
+                };
+                let info = m
+                    .info(loc)
+                    .ok_or_else(|| refused("no such location".to_string()))?;
+                e.change.check(&info).map_err(|why| refused(why.to_string()))?;
                 Ok(UserEvent {
                     at: e.at,
                     loc,
@@ -547,9 +681,18 @@ impl Session {
             });
         }
         let dialect = self.dialect();
+        let program = if self.program_name.is_empty() {
+            "(unnamed)"
+        } else {
+            self.program_name.as_str()
+        };
         let program_error = |diags: Vec<crate::machine::Diagnostic>| SessionError::Program {
             path: path.to_string(),
-            first: diags.first().map(ToString::to_string).unwrap_or_default(),
+            program: program.to_string(),
+            first: diags
+                .first()
+                .map(|d| d.with_file(program).to_string())
+                .unwrap_or_default(),
             count: diags.len(),
         };
         let probe = (dialect.open)(&self.program, &dialect.settings_from(&self.settings))
@@ -575,6 +718,10 @@ impl Session {
             return Err(SessionError::Cancelled {
                 path: path.to_string(),
             });
+        }
+        let fault_mark_at_end = self.marks.iter().any(|m| m.fault && m.at == furthest);
+        if self.stopped || fault_mark_at_end || !debugger.machine().run_state().is_live() {
+            debugger.replay_stop();
         }
         debugger.restore_marks(self.marks.iter().map(|m| {
             let kind = if m.fault {

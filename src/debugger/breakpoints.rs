@@ -143,6 +143,8 @@ pub enum BreakError {
     Message(ExprError),
     #[error("there is no location named '{0}'")]
     Location(String),
+    #[error("line {line} is past the program's last line ({last})")]
+    PastEnd { line: usize, last: usize },
 }
 
 /// A message a log point wrote.
@@ -200,9 +202,11 @@ pub struct Checker {
 }
 
 impl Checker {
-    /// Compile `breakpoints` against `m`'s program. A breakpoint whose condition, message or
-    /// location does not compile is inactive and its error is kept.
-    pub fn new(breakpoints: &[Breakpoint], m: &dyn MachineView) -> Checker {
+    /// Compile `breakpoints` against `m`'s program of `lines` source lines. A breakpoint whose
+    /// condition, message or location does not compile, or whose line is past the last one,
+    /// is inactive and its error is kept (the per-line table is sized by the program, never by
+    /// a number a user or a file gave).
+    pub fn new(breakpoints: &[Breakpoint], m: &dyn MachineView, lines: usize) -> Checker {
         let mut c = Checker {
             compiled: Vec::new(),
             by_line: Vec::new(),
@@ -215,7 +219,13 @@ impl Checker {
             errors: Vec::new(),
         };
         for (index, b) in breakpoints.iter().enumerate() {
-            let compiled = compile(b, m);
+            let compiled = match b.kind {
+                BreakKind::Line(line) if line > lines => Err(BreakError::PastEnd {
+                    line,
+                    last: lines,
+                }),
+                _ => compile(b, m),
+            };
             let (compiled, error) = match compiled {
                 Ok(x) => (Some(x), None),
                 Err(e) => (None, Some(e)),
@@ -253,8 +263,8 @@ impl Checker {
     }
 
     /// A checker for going back: the same breakpoints, ignoring hit counts and log points.
-    pub fn backward(breakpoints: &[Breakpoint], m: &dyn MachineView) -> Checker {
-        let mut c = Checker::new(breakpoints, m);
+    pub fn backward(breakpoints: &[Breakpoint], m: &dyn MachineView, lines: usize) -> Checker {
+        let mut c = Checker::new(breakpoints, m, lines);
         c.backward = true;
         c
     }

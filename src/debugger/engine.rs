@@ -8,7 +8,7 @@
 use std::cell::RefCell;
 
 use super::breakpoints::Checker;
-use super::history::{Change, Mark, MarkKind, Timeline, UserEvent};
+use super::history::{BackSearch, Change, Mark, MarkKind, Timeline, UserEvent};
 use super::trace::{Channel, Trace};
 use crate::machine::{Loc, Machine, MachineView, Pos, StopReason, WriteError};
 
@@ -80,6 +80,8 @@ pub trait Engine: Send {
     /// A fresh timeline at the start of the same program and settings, with these events.
     fn restarted(&self, events: Vec<UserEvent>, channels: Vec<Channel>) -> Box<dyn Engine>;
     fn furthest(&self) -> Pos;
+    /// Whether the run ended or faulted at the furthest position.
+    fn stopped(&self) -> bool;
     /// Run forward to `limit` or until `stop` holds (never before the first instruction when
     /// `skip_first`).
     fn forward(&mut self, limit: Pos, stop: &StopWhen<'_>) -> StopReason;
@@ -87,6 +89,10 @@ pub trait Engine: Send {
     fn goto(&mut self, pos: Pos);
     /// The last instruction boundary before `before` where `wanted` holds.
     fn find_back(&mut self, before: Pos, wanted: &StopWhen<'_>) -> Option<Pos>;
+    /// Go on with a search back for `wanted`, replaying about `budget` ticks at most (see
+    /// [`Timeline::find_back_some`]); returns the ticks replayed.
+    fn find_back_some(&mut self, search: &mut BackSearch, budget: u64, wanted: &StopWhen<'_>)
+    -> u64;
     /// The last boundary before `before` right after an instruction that wrote `loc`.
     fn find_write_back(&mut self, before: Pos, loc: Loc) -> Option<Pos>;
     /// Call `f` after each recorded instruction ending in `from < p <= to`, until it says stop.
@@ -113,6 +119,15 @@ pub trait Engine: Send {
     ) -> StopReason;
 }
 
+/// A boundary asked by a search back: data breakpoints compare with the first boundary of a
+/// replayed stretch from there on.
+fn asked_going_back<M: MachineView>(wanted: &StopWhen<'_>, m: &M, first: bool) -> bool {
+    if first && let Some(c) = wanted.checker {
+        c.borrow_mut().prime(m);
+    }
+    wanted.holds(m)
+}
+
 /// The engine for one dialect's machine type.
 pub struct Core<M: Machine> {
     timeline: Timeline<M>,
@@ -137,6 +152,9 @@ impl<M: Machine> Engine for Core<M> {
     fn furthest(&self) -> Pos {
         self.timeline.furthest()
     }
+    fn stopped(&self) -> bool {
+        self.timeline.stopped()
+    }
     fn forward(&mut self, limit: Pos, stop: &StopWhen<'_>) -> StopReason {
         if stop.is_never() {
             return self.timeline.forward_unstopped(limit);
@@ -160,11 +178,17 @@ impl<M: Machine> Engine for Core<M> {
         self.timeline.goto(pos);
     }
     fn find_back(&mut self, before: Pos, wanted: &StopWhen<'_>) -> Option<Pos> {
-        self.timeline.find_back(before, |m, first| {
-            if first && let Some(c) = wanted.checker {
-                c.borrow_mut().prime(m);
-            }
-            wanted.holds(m)
+        self.timeline
+            .find_back(before, |m, first| asked_going_back(wanted, m, first))
+    }
+    fn find_back_some(
+        &mut self,
+        search: &mut BackSearch,
+        budget: u64,
+        wanted: &StopWhen<'_>,
+    ) -> u64 {
+        self.timeline.find_back_some(search, budget, |m, first| {
+            asked_going_back(wanted, m, first)
         })
     }
     fn find_write_back(&mut self, before: Pos, loc: Loc) -> Option<Pos> {

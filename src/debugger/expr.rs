@@ -254,7 +254,9 @@ fn lex(text: &str) -> Result<Vec<Token>, ExprError> {
                 text: word,
             });
             i = j;
-        } else if c.is_alphabetic() || c == '_' {
+        } else if c.is_ascii_alphabetic() || c == '_' {
+            // Names are ASCII, like every dialect's; any other letter is refused below, so
+            // the lexer always moves past what it looked at.
             let j = word_end(i);
             let word: String = chars[i..j].iter().collect();
             out.push(Token {
@@ -291,10 +293,12 @@ fn lex(text: &str) -> Result<Vec<Token>, ExprError> {
         } else {
             let rest: String = chars[i..chars.len().min(i + 2)].iter().collect();
             let Some(sym) = SYMBOLS.iter().find(|s| rest.starts_with(**s)) else {
-                return Err(ExprError {
-                    col,
-                    message: format!("'{c}' is not part of an expression"),
-                });
+                let message = if c.is_alphanumeric() {
+                    format!("'{c}': names use the letters A to Z, digits and _")
+                } else {
+                    format!("'{c}' is not part of an expression")
+                };
+                return Err(ExprError { col, message });
             };
             i += sym.chars().count();
             out.push(Token {
@@ -590,5 +594,35 @@ mod tests {
         let e = Message::compile("x {R4 +} y", d.machine()).expect_err("bad hole");
         assert_eq!(e.col, 8, "the closing brace, counted in the whole message");
         assert!(Message::compile("x {R4", d.machine()).is_err());
+    }
+
+    #[test]
+    fn letters_outside_ascii_are_an_error_at_their_column() {
+        let d = machine("END");
+        for (text, col) in [("é", 1), ("R4 > é", 6), ("Ré4", 2), ("R4 == ٣", 7), ("ÉTAT", 1)] {
+            let e = Expr::compile(text, d.machine()).expect_err(text);
+            assert_eq!(e.col, col, "{text}: {e}");
+            assert!(e.message.contains("A to Z"), "{text}: {e}");
+        }
+        let e = Message::compile("pos {é}", d.machine()).expect_err("a hole with é");
+        assert_eq!(e.col, 6);
+    }
+
+    proptest::proptest! {
+        /// Any text at all compiles or is refused with a column inside it (or just past its
+        /// end), in bounded time: conditions, watches, channels and `--break` all come here.
+        #[test]
+        fn any_text_is_an_expression_or_an_error_with_its_column(text in "\\PC{0,40}") {
+            let d = machine("END");
+            let chars = text.chars().count();
+            match Expr::compile(&text, d.machine()) {
+                Ok(e) => { e.eval(d.machine()); }
+                Err(e) => proptest::prop_assert!((1..=chars + 1).contains(&e.col), "{e}"),
+            }
+            match Message::compile(&text, d.machine()) {
+                Ok(m) => { m.render(d.machine()); }
+                Err(e) => proptest::prop_assert!((1..=chars + 1).contains(&e.col), "{e}"),
+            }
+        }
     }
 }

@@ -146,6 +146,9 @@ pub struct Timeline<M: Machine> {
     /// are).
     next_event: usize,
     furthest: Pos,
+    /// The run ended or faulted at `furthest`. A fault leaves the position where the faulting
+    /// instruction began, so a replay to `furthest` stops just before it: `goto` runs it again.
+    stopped: bool,
     marks: Vec<Mark>,
 }
 
@@ -163,6 +166,7 @@ impl<M: Machine> Timeline<M> {
             events,
             next_event: 0,
             furthest: Pos::default(),
+            stopped: false,
             marks: Vec::new(),
         };
         apply_due(&mut t.machine, &t.events, &mut t.next_event);
@@ -175,6 +179,10 @@ impl<M: Machine> Timeline<M> {
     }
     pub fn furthest(&self) -> Pos {
         self.furthest
+    }
+    /// Whether the run ended or faulted at the furthest position.
+    pub fn stopped(&self) -> bool {
+        self.stopped
     }
     pub fn events(&self) -> &[UserEvent] {
         &self.events
@@ -217,6 +225,7 @@ impl<M: Machine> Timeline<M> {
             events,
             next_event,
             furthest,
+            stopped,
             ..
         } = self;
         let mut values = [0i64; super::trace::MAX_CHANNELS];
@@ -276,6 +285,9 @@ impl<M: Machine> Timeline<M> {
             last.union(set);
         }
         *furthest = (*furthest).max(machine.pos());
+        if !machine.run_state().is_live() && machine.pos() == *furthest {
+            *stopped = true;
+        }
         reason
     }
 
@@ -352,6 +364,9 @@ impl<M: Machine> Timeline<M> {
                 }
                 self.trace.extend_to(reached.tick);
                 self.furthest = self.furthest.max(reached);
+                if !self.machine.run_state().is_live() && reached == self.furthest {
+                    self.stopped = true;
+                }
                 if reached == checkpoint_due
                     && self.checkpoints.last().is_none_or(|c| c.pos() < reached)
                 {
@@ -441,6 +456,27 @@ impl<M: Machine> Timeline<M> {
             .saturating_sub(1);
         self.restore(i);
         self.rerun(pos, |_| false);
+        if pos == self.furthest && self.stopped && self.machine.run_state().is_live() {
+            self.rerun_stop();
+        }
+    }
+
+    /// At the furthest position of a run that stopped there: run the instruction that ended or
+    /// faulted it, so the stop shows as it happened (its fault, flags and message).
+    fn rerun_stop(&mut self) {
+        let at = self.machine.pos();
+        let next = Pos {
+            tick: at.tick,
+            step: at.step.saturating_add(1),
+        };
+        replay(
+            &mut self.machine,
+            &self.events,
+            &mut self.next_event,
+            next,
+            |_| false,
+            |_, _| {},
+        );
     }
 
     fn restore(&mut self, checkpoint: usize) {
@@ -461,33 +497,103 @@ impl<M: Machine> Timeline<M> {
         before: Pos,
         mut wanted: F,
     ) -> Option<Pos> {
-        let here = self.now();
-        let mut end = before;
-        let mut found = None;
-        while end > Pos::default() && found.is_none() {
+        let mut search = BackSearch::new(before);
+        while !search.is_done() {
+            self.find_back_some(&mut search, u64::MAX, &mut wanted);
+        }
+        search.found()
+    }
+
+    /// Go on with `search` ([`Timeline::find_back`] over several calls): stretches, newest
+    /// first, until it is done or `budget` ticks have been replayed (at least one stretch is
+    /// replayed, unless it is done: a stretch is at most two checkpoint intervals of replay).
+    /// Returns the ticks replayed. Leaves the machine where it was.
+    ///
+    /// A stretch inside one long instruction (a move, a delay: waiting at both ends with no
+    /// instruction completed between) has no boundary and is passed over without replay, and a
+    /// stretch that runs on into such an instruction jumps to the last checkpoint inside it:
+    /// nothing is asked while a machine waits, and it leaves a wait only by completing the
+    /// instruction, which the step counter counts.
+    pub fn find_back_some<F: FnMut(&M, bool) -> bool>(
+        &mut self,
+        search: &mut BackSearch,
+        budget: u64,
+        mut wanted: F,
+    ) -> u64 {
+        let here = self.machine.clone();
+        let here_next = self.next_event;
+        let mut spent = 0u64;
+        while !search.done && (spent == 0 || spent < budget) {
+            let end = search.end;
             let i = self
                 .checkpoints
                 .partition_point(|c| c.pos() < end)
                 .saturating_sub(1);
             let start = self.checkpoints[i].pos();
-            self.restore(i);
-            let mut first = true;
-            self.rerun(before, |m| {
-                let p = m.pos();
-                // Nothing at or after `before` is asked: a stateful predicate's record of its
-                // last match is then the match `found` names.
-                if p < before && wanted(m, std::mem::take(&mut first)) {
-                    found = Some(p);
+            let at_end = match self.checkpoints.get(i + 1) {
+                Some(c) if c.pos() == end => Some(c),
+                _ if end == here.pos() => Some(&here),
+                _ => None,
+            };
+            let no_boundary = at_end.is_some_and(|e| waits_throughout(&self.checkpoints[i], e));
+            if !no_boundary {
+                let (found, ticks) = self.ask_stretch(i, search.before, end, &mut wanted);
+                spent = spent.saturating_add(ticks.max(1));
+                if found.is_some() {
+                    search.found = found;
+                    search.done = true;
                 }
-                p >= end
-            });
-            if start == Pos::default() {
-                break;
             }
-            end = start;
+            if start == Pos::default() {
+                search.done = true;
+            }
+            search.end = start;
         }
-        self.goto(here);
-        found
+        self.machine = here;
+        self.next_event = here_next;
+        spent
+    }
+
+    /// Replay the stretch from checkpoint `i`, asking `wanted` at each boundary before
+    /// `before`, on to the first boundary at or after `end`. Returns the last match and the
+    /// ticks replayed.
+    fn ask_stretch<F: FnMut(&M, bool) -> bool>(
+        &mut self,
+        i: usize,
+        before: Pos,
+        end: Pos,
+        wanted: &mut F,
+    ) -> (Option<Pos>, u64) {
+        self.restore(i);
+        let from = self.machine.ticks();
+        let mut first = true;
+        let mut found = None;
+        let mut ask = |m: &M| {
+            let p = m.pos();
+            // Nothing at or after `before` is asked: a stateful predicate's record of its
+            // last match is then the match `found` names.
+            if p < before && wanted(m, std::mem::take(&mut first)) {
+                found = Some(p);
+            }
+            p >= end
+        };
+        let reason = self.rerun(end, &mut ask);
+        let mut ticks = self.machine.ticks() - from;
+        if reason == StopReason::TickLimit && self.machine.pos() < before {
+            // The next boundary may lie at the end of a long wait: skip to its last checkpoint.
+            let m = &self.machine;
+            let last = self
+                .checkpoints
+                .partition_point(|c| c.pos() <= before)
+                .saturating_sub(1);
+            if last > i && waits_throughout(m, &self.checkpoints[last]) {
+                self.restore(last);
+            }
+            let resumed = self.machine.ticks();
+            self.rerun(before, &mut ask);
+            ticks += self.machine.ticks() - resumed;
+        }
+        (found, ticks)
     }
 
     /// Call `f` after every instruction that ends in `from < p <= to` (p = `m.pos()`), in order,
@@ -543,6 +649,7 @@ impl<M: Machine> Timeline<M> {
             self.marks.retain(|m| m.at <= now);
             self.trace.truncate_after(now.tick);
             self.furthest = now;
+            self.stopped = false;
         }
         self.next_event = self.events.len();
         self.events.push(event);
@@ -561,6 +668,49 @@ impl<M: Machine> Timeline<M> {
             self.marks.sort_by_key(|m| m.at);
         }
     }
+}
+
+/// A search back through the timeline that goes on over several calls
+/// ([`Timeline::find_back_some`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BackSearch {
+    before: Pos,
+    /// Every boundary from here to `before` has been asked.
+    end: Pos,
+    found: Option<Pos>,
+    done: bool,
+}
+
+impl BackSearch {
+    /// A search for the last boundary before `before`.
+    pub fn new(before: Pos) -> Self {
+        BackSearch {
+            before,
+            end: before,
+            found: None,
+            done: before == Pos::default(),
+        }
+    }
+    pub fn is_done(&self) -> bool {
+        self.done
+    }
+    /// What it found (None while searching, or when nothing matched).
+    pub fn found(&self) -> Option<Pos> {
+        self.found
+    }
+    /// How far back it has searched.
+    pub fn reached(&self) -> Pos {
+        self.end
+    }
+}
+
+/// Whether `later` is inside the same instruction as `earlier`: both wait, and no instruction
+/// completed between them, so no instruction boundary lies between them.
+fn waits_throughout<M: Machine>(earlier: &M, later: &M) -> bool {
+    matches!(earlier.run_state(), crate::machine::RunState::Waiting(_))
+        && matches!(later.run_state(), crate::machine::RunState::Waiting(_))
+        && earlier.steps() == later.steps()
+        && earlier.pos() <= later.pos()
 }
 
 /// The channels' values as the trace stores them (sign-extended where the location is signed).

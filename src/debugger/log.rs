@@ -76,6 +76,50 @@ fn row_of(m: &dyn MachineView) -> LogRow {
     }
 }
 
+/// A search of the execution log that goes on over several calls, a bounded stretch of
+/// history each ([`Debugger::search_log`]): the window runs it over frames, so a filter that
+/// matches rarely on a long, heavy history never holds up a frame.
+#[derive(Clone, Debug)]
+pub struct LogSearch {
+    filter: LogFilter,
+    max_rows: usize,
+    max_ticks: u64,
+    /// Where the log ends (the position it was started at).
+    now: Pos,
+    /// The rows found so far, oldest first.
+    kept: VecDeque<LogRow>,
+    /// Searched back to here.
+    to: Pos,
+    stretch: u64,
+    complete: bool,
+    done: bool,
+}
+
+impl LogSearch {
+    /// The last `max_rows` instructions up to `now` that `filter` keeps, searching back at most
+    /// `max_ticks` ticks.
+    pub fn new(filter: LogFilter, max_rows: usize, max_ticks: u64, now: Pos) -> Self {
+        LogSearch {
+            filter,
+            max_rows,
+            max_ticks,
+            now,
+            kept: VecDeque::new(),
+            to: now,
+            stretch: FIRST_STRETCH,
+            complete: false,
+            done: max_rows == 0,
+        }
+    }
+    pub fn is_done(&self) -> bool {
+        self.done
+    }
+    /// How far back it has searched.
+    pub fn searched_from(&self) -> Pos {
+        self.to
+    }
+}
+
 impl Debugger {
     /// The last `max_rows` instructions up to the current position that `filter` keeps,
     /// searching back at most `max_ticks` ticks (a bound on the work: a filter that matches
@@ -86,67 +130,82 @@ impl Debugger {
         max_rows: usize,
         max_ticks: u64,
     ) -> ExecutionLog {
-        let now = self.pos();
-        let mut kept: VecDeque<Pos> = VecDeque::new();
-        let mut to = now;
-        let mut stretch = FIRST_STRETCH;
-        let mut complete = false;
-        while kept.len() < max_rows {
-            let from_tick = to.tick.saturating_sub(stretch);
-            let scanned = now.tick - from_tick;
-            let from = if from_tick == 0 {
-                // Positions start at 0: "after" something before it includes the first step.
-                None
-            } else {
-                Some(Pos::at_tick(from_tick))
-            };
-            let mut found = Vec::new();
-            self.engine
-                .visit(from.unwrap_or_default(), to, &mut |m: &dyn MachineView| {
-                    if filter.keeps(m) {
-                        found.push(m.pos());
-                    }
-                    true
-                });
-            for p in found.into_iter().rev() {
-                if kept.len() == max_rows {
-                    break;
-                }
-                kept.push_front(p);
-            }
-            match from {
-                None => {
-                    complete = kept.len() < max_rows;
-                    to = Pos::default();
-                    break;
-                }
-                Some(f) => to = f,
-            }
-            if scanned >= max_ticks {
-                break;
-            }
-            stretch = stretch.saturating_mul(2);
+        let mut search = LogSearch::new(filter, max_rows, max_ticks, self.pos());
+        while !search.is_done() {
+            self.search_log(&mut search);
         }
-        let mut rows = Vec::with_capacity(kept.len());
-        if let Some(&first) = kept.front() {
-            let from = if first.step > 0 {
-                Pos::at_tick(first.tick)
-            } else {
-                Pos::at_tick(first.tick.saturating_sub(1))
-            };
-            let mut next = 0;
-            self.engine.visit(from, now, &mut |m: &dyn MachineView| {
-                if kept.get(next) == Some(&m.pos()) {
-                    rows.push(row_of(m));
-                    next += 1;
+        self.log_found(&search)
+    }
+
+    /// Search one more stretch of history back (at most [`super::history::CHECKPOINT_EVERY`]
+    /// ticks, replayed from the checkpoint before it). Returns the ticks searched.
+    pub fn search_log(&mut self, search: &mut LogSearch) -> u64 {
+        if search.done {
+            return 0;
+        }
+        let to = search.to;
+        let from_tick = to.tick.saturating_sub(search.stretch);
+        let from = if from_tick == 0 {
+            // Positions start at 0: "after" something before it includes the first step.
+            None
+        } else {
+            Some(Pos::at_tick(from_tick))
+        };
+        let mut found: Vec<Pos> = Vec::new();
+        let filter = search.filter;
+        self.engine
+            .visit(from.unwrap_or_default(), to, &mut |m: &dyn MachineView| {
+                if filter.keeps(m) {
+                    found.push(m.pos());
                 }
-                next < kept.len()
+                true
             });
+        // The newest matches this stretch adds, and their rows from a second look at it.
+        let room = search.max_rows - search.kept.len();
+        let wanted: Vec<Pos> = found.split_off(found.len().saturating_sub(room));
+        if !wanted.is_empty() {
+            let mut rows = Vec::with_capacity(wanted.len());
+            self.engine.visit(from.unwrap_or_default(), to, &mut |m| {
+                if wanted.get(rows.len()) == Some(&m.pos()) {
+                    rows.push(row_of(m));
+                }
+                rows.len() < wanted.len()
+            });
+            for row in rows.into_iter().rev() {
+                search.kept.push_front(row);
+            }
         }
+        let searched = to.tick - from_tick;
+        match from {
+            None => {
+                search.complete = search.kept.len() < search.max_rows;
+                search.to = Pos::default();
+                search.done = true;
+            }
+            Some(f) => search.to = f,
+        }
+        if search.kept.len() >= search.max_rows
+            || search.now.tick - from_tick >= search.max_ticks
+        {
+            search.done = true;
+        }
+        search.stretch = search
+            .stretch
+            .saturating_mul(2)
+            .min(super::history::CHECKPOINT_EVERY);
+        searched
+    }
+
+    /// The rows `search` found (all of them once it is done).
+    pub fn log_found(&self, search: &LogSearch) -> ExecutionLog {
         ExecutionLog {
-            rows,
-            searched_from: if complete { Pos::default() } else { to },
-            complete,
+            rows: search.kept.iter().cloned().collect(),
+            searched_from: if search.complete {
+                Pos::default()
+            } else {
+                search.to
+            },
+            complete: search.complete,
         }
     }
 

@@ -26,7 +26,7 @@ use std::collections::BTreeSet;
 pub use breakpoints::{BreakError, BreakKind, Breakpoint, DataTrigger, LogMessage};
 pub use engine::{Engine, StopWhen, engine};
 pub use lines::remap_lines;
-pub use run::{Event, Goal, Speed};
+pub use run::{BACK_TICKS_AT_ONCE, Event, Goal, Speed};
 pub use watch::Watch;
 
 use crate::machine::registry::{self, Dialect, Settings};
@@ -35,10 +35,14 @@ use breakpoints::Checker;
 use history::{Change, Mark, MarkKind, UserEvent};
 use trace::{Channel, MAX_CHANNELS, Trace};
 
-/// Ticks run between two looks at the clock while running unlimited.
+/// Ticks run between two looks at the clock while running unlimited, at most. A run's first
+/// chunk is [`FIRST_CHUNK_TICKS`] and each next one doubles while a chunk fits in the frame's
+/// budget: a scan of a large PLC program can cost 100 µs, so 20,000 of them before the first
+/// look would freeze the window for seconds.
 pub(crate) const CHUNK_TICKS: u64 = 20_000;
+pub const FIRST_CHUNK_TICKS: u64 = 16;
 /// Ticks a single step may take before it continues over later frames (a long DLY or move).
-pub(crate) const STEP_TICKS_AT_ONCE: u64 = 200_000;
+pub(crate) const STEP_TICKS_AT_ONCE: u64 = 16_384;
 /// Ticks replayed between two progress reports when a session loads.
 pub const REPLAY_SLICE: u64 = 1 << 20;
 
@@ -79,6 +83,12 @@ pub struct Debugger {
     /// What stands in for the engine while the worker has it (kept to be used again).
     spare: Option<Box<dyn Engine>>,
     rate: run::RateMeter,
+    /// Ticks of the next chunk a frame runs (see [`CHUNK_TICKS`]), and the shortest time a
+    /// chunk of this run took.
+    chunk_ticks: u64,
+    chunk_floor: Option<std::time::Duration>,
+    /// The search back in progress while the goal is [`Goal::Back`].
+    back: Option<run::Back>,
 }
 
 /// A plot channel as the user chose it: a location name, a legend and a plot group.
@@ -135,6 +145,35 @@ pub enum EditError {
     Refused(#[from] crate::machine::WriteError),
     #[error("fix the program's errors first: edits apply to a running program")]
     NotAssembled,
+    #[error("{name} has {width} bit(s): there is no bit {bit}")]
+    NoSuchBit { name: String, bit: u8, width: u8 },
+}
+
+impl Change {
+    /// Whether this change can be made to the location `info` describes: it is writable, a
+    /// value fits its width, a bit is one of its bits. Checked before any edit is recorded, so
+    /// the timeline only ever holds edits that apply.
+    pub fn check(self, info: &crate::machine::LocInfo) -> Result<(), EditError> {
+        if !info.editable {
+            return Err(crate::machine::WriteError::ReadOnly(info.name.clone()).into());
+        }
+        match self {
+            Change::Set(value) if info.width < 64 && value >> info.width != 0 => {
+                Err(crate::machine::WriteError::TooWide {
+                    name: info.name.clone(),
+                    value,
+                    width: info.width,
+                }
+                .into())
+            }
+            Change::Bit { bit, .. } if bit >= info.width => Err(EditError::NoSuchBit {
+                name: info.name.clone(),
+                bit,
+                width: info.width,
+            }),
+            _ => Ok(()),
+        }
+    }
 }
 
 impl Debugger {
@@ -152,7 +191,7 @@ impl Debugger {
     ) -> Self {
         let settings = dialect.default_settings();
         let engine = empty_engine(dialect, &settings);
-        let checker = RefCell::new(Checker::new(&[], engine.machine()));
+        let checker = RefCell::new(Checker::new(&[], engine.machine(), 0));
         let mut d = Debugger {
             dialect,
             name: name.into(),
@@ -178,6 +217,9 @@ impl Debugger {
             lent: false,
             spare: None,
             rate: run::RateMeter::default(),
+            chunk_ticks: FIRST_CHUNK_TICKS,
+            chunk_floor: None,
+            back: None,
         };
         d.assemble();
         d
@@ -232,6 +274,33 @@ impl Debugger {
             if !go_on(self.pos().tick) {
                 return false;
             }
+        }
+    }
+
+    /// A restored run that had ended or faulted at its furthest position: run the instruction
+    /// there again, so the state is the stop itself (run state, fault, flags, the status bar's
+    /// word for it), as the runner reports it. Does nothing elsewhere or when the run goes on
+    /// from there.
+    pub fn replay_stop(&mut self) {
+        if !self.machine().run_state().is_live() {
+            // The replay itself ran the stopping instruction: only the banner is missing.
+            self.after_stop(Event::Stepped);
+            return;
+        }
+        if self.pos() != self.furthest() {
+            return;
+        }
+        let at = self.pos();
+        let next = Pos {
+            tick: at.tick,
+            step: at.step.saturating_add(1),
+        };
+        self.engine.forward(next, &StopWhen::default());
+        if self.machine().run_state().is_live() {
+            // It did not stop there after all (an older file's error-lamp mark): back.
+            self.engine.goto(at);
+        } else {
+            self.after_stop(Event::Stepped);
         }
     }
 
@@ -312,6 +381,10 @@ impl Debugger {
     /// The furthest position reached: the timeline spans the start ..= this.
     pub fn furthest(&self) -> Pos {
         self.engine.furthest()
+    }
+    /// Whether the run ended or faulted at the furthest position (sessions keep this).
+    pub fn stopped_at_furthest(&self) -> bool {
+        self.engine.stopped()
     }
     /// The furthest tick reached.
     pub fn furthest_tick(&self) -> u64 {
@@ -453,6 +526,8 @@ impl Debugger {
         let channels = self.resolve_channels(self.engine.machine());
         self.engine = self.engine.restarted(Vec::new(), channels);
         self.goal = None;
+        self.chunk_ticks = FIRST_CHUNK_TICKS;
+        self.chunk_floor = None;
         self.last_writer = None;
         self.generation = next_generation();
         self.rebuild_checker(false);
@@ -554,7 +629,7 @@ impl Debugger {
             self.breaks.remove(index);
             let old = self
                 .checker
-                .replace(Checker::new(&self.breaks, self.machine()));
+                .replace(Checker::new(&self.breaks, self.machine(), self.lines()));
             let mut hits: Vec<u64> = (0..=self.breaks.len()).map(|i| old.hits(i)).collect();
             hits.remove(index);
             let new = self.checker.get_mut();
@@ -562,6 +637,11 @@ impl Debugger {
             new.log = old.log;
             new.rebuild_logged();
         }
+    }
+
+    /// Source lines of the program that runs (breakpoints past them can never stop).
+    fn lines(&self) -> usize {
+        self.assembled_source.lines().count()
     }
 
     /// Why a breakpoint cannot work in the current program (a condition that does not parse,
@@ -583,7 +663,7 @@ impl Debugger {
     /// Compile the breakpoints against the current program, keeping the hit counts and log
     /// (`keep`) or starting both afresh.
     fn rebuild_checker(&mut self, keep: bool) {
-        let mut new = Checker::new(&self.breaks, self.engine.machine());
+        let mut new = Checker::new(&self.breaks, self.engine.machine(), self.lines());
         if keep {
             let old = self.checker.borrow();
             new.keep_hits(&old);
@@ -601,10 +681,15 @@ impl Debugger {
         if self.has_errors() {
             return Err(EditError::NotAssembled);
         }
+        let info = self
+            .machine()
+            .info(loc)
+            .ok_or(crate::machine::WriteError::NoSuchLocation)?;
+        change.check(&info)?;
         let now = self.machine().read(loc);
         let unchanged = match change {
-            Change::Set(v) => v == now && self.machine().info(loc).is_some(),
-            Change::Bit { bit, on } => bit < 64 && (now >> bit & 1 == 1) == on,
+            Change::Set(v) => v == now,
+            Change::Bit { bit, on } => (now >> bit & 1 == 1) == on,
         };
         if unchanged {
             // Writing what is already there changes nothing: no event, the future stays.
@@ -645,7 +730,8 @@ impl Debugger {
 
     /// Flip one bit of a location.
     pub fn toggle_bit(&mut self, loc: Loc, bit: u8) -> Result<(), EditError> {
-        let on = self.machine().read(loc) >> bit & 1 == 0;
+        // A bit past 63 reads as clear; `edit` refuses it (and any past the width).
+        let on = self.machine().read(loc).checked_shr(u32::from(bit)).unwrap_or(0) & 1 == 0;
         self.edit(loc, Change::Bit { bit, on })
     }
 

@@ -5,8 +5,8 @@ use std::cell::RefCell;
 use std::time::{Duration, Instant};
 
 use super::breakpoints::Checker;
-use super::history::MarkKind;
-use super::{CHUNK_TICKS, Debugger, Engine, STEP_TICKS_AT_ONCE, StopWhen};
+use super::history::{BackSearch, MarkKind};
+use super::{CHUNK_TICKS, Debugger, Engine, FIRST_CHUNK_TICKS, STEP_TICKS_AT_ONCE, StopWhen};
 use crate::machine::{Pos, RunState, StopReason};
 
 /// How fast Run goes.
@@ -39,6 +39,9 @@ impl Speed {
         Speed::Unlimited,
     ];
 
+    /// The fastest and slowest of the presets: (commands per second, factor of real time).
+    pub const RANGE: ((f64, f64), (f64, f64)) = ((100_000.0, 100.0), (1.0, 0.01));
+
     /// `1 command/s`, `10 commands/s`, `1k commands/s`: in the dialect's words for a step.
     pub fn label(self, step: &str, steps: &str) -> String {
         match self {
@@ -62,6 +65,9 @@ pub enum Goal {
     ToLine(usize),
     /// Until this tick (beyond the furthest one reached so far).
     ToTick(u64),
+    /// A search back (step back, reverse-continue) too long for one frame: it goes on over
+    /// frames, and Pause cancels it where it started.
+    Back,
 }
 
 /// Why the debugger last stopped, for the status bar.
@@ -218,6 +224,8 @@ pub(crate) fn run_chunk(
             StopReason::TickLimit if engine.machine().pos().tick >= t => StopReason::Predicate,
             other => other,
         },
+        // A search back is never run forward (`advance` goes on with it instead).
+        Goal::Back => StopReason::Predicate,
         Goal::Continue | Goal::ToLine(_) => engine.forward(
             chunk,
             &StopWhen {
@@ -284,6 +292,8 @@ impl Debugger {
         self.event = None;
         self.lamp_was_on = self.machine().error_lamp();
         self.rate = RateMeter::default();
+        self.chunk_ticks = FIRST_CHUNK_TICKS;
+        self.chunk_floor = None;
         self.checker.get_mut().prime(self.engine.machine());
     }
 
@@ -316,9 +326,14 @@ impl Debugger {
     }
 
     pub fn set_speed(&mut self, speed: Speed) {
+        // Within the offered range: a factor from a damaged file or old preferences
+        // (RealTime(1e12)) would ask a frame for more ticks than any frame can run.
+        let (fastest, slowest) = Speed::RANGE;
         self.speed = match speed {
             Speed::PerSecond(n) if !(n.is_finite() && n > 0.0) => Speed::PerSecond(1.0),
             Speed::RealTime(f) if !(f.is_finite() && f > 0.0) => Speed::RealTime(1.0),
+            Speed::PerSecond(n) => Speed::PerSecond(n.clamp(slowest.0, fastest.0)),
+            Speed::RealTime(f) => Speed::RealTime(f.clamp(slowest.1, fastest.1)),
             s => s,
         };
         self.credit = 0.0;
@@ -332,7 +347,7 @@ impl Debugger {
         live
     }
 
-    fn after_stop(&mut self, otherwise: Event) {
+    pub(super) fn after_stop(&mut self, otherwise: Event) {
         let state = self.machine().run_state();
         self.event = Some(match state {
             RunState::Ended => Event::Ended,
@@ -362,12 +377,15 @@ impl Debugger {
         if let Some(reason) = back {
             return self.settle(goal, reason);
         }
+        if goal == Goal::Back {
+            return self.go_on_back(Some(Instant::now() + budget));
+        }
         if !self.machine().run_state().is_live() {
             self.after_stop(Event::Stepped);
             return false;
         }
         if let (Goal::Continue | Goal::ToLine(_), Speed::RealTime(factor)) = (goal, self.speed) {
-            return self.advance_in_real_time(goal, factor, dt);
+            return self.advance_in_real_time(goal, factor, dt, budget);
         }
         if self.worker.is_some() && self.runs_on_worker(goal) {
             // The worker runs it once the frame is drawn.
@@ -396,7 +414,21 @@ impl Debugger {
             let skip = plan.skip_first;
             let now = self.pos();
             let reason = if commands == u64::MAX {
-                run_chunk(self.engine.as_mut(), &plan, checker, CHUNK_TICKS)
+                let chunk_started = Instant::now();
+                let reason = run_chunk(self.engine.as_mut(), &plan, checker, self.chunk_ticks);
+                // Chunks double while one fits in the frame's budget, so a frame ends at most
+                // about twice its budget in (the last chunk is at most all those before it).
+                // What a call costs whatever its length (a large program's tables) is the
+                // shortest chunk seen: chunks may take twice that, or nothing would run.
+                let took = chunk_started.elapsed();
+                let overhead = *self.chunk_floor.get_or_insert(took);
+                self.chunk_floor = Some(overhead.min(took));
+                self.chunk_ticks = if took > budget.max(overhead * 2) {
+                    (self.chunk_ticks / 2).max(1)
+                } else {
+                    self.chunk_ticks.saturating_mul(2).min(CHUNK_TICKS)
+                };
+                reason
             } else {
                 let at_stop = StopWhen {
                     checker,
@@ -440,7 +472,11 @@ impl Debugger {
 
     /// Whether a run goes to the worker between frames: one that runs as fast as it can.
     fn runs_on_worker(&self, goal: Goal) -> bool {
-        matches!(goal, Goal::FinishStep | Goal::ToTick(_)) || self.speed == Speed::Unlimited
+        match goal {
+            Goal::Back => false,
+            Goal::FinishStep | Goal::ToTick(_) => true,
+            Goal::Continue | Goal::ToLine(_) => self.speed == Speed::Unlimited,
+        }
     }
 
     /// Lend the run in progress to the worker thread until the next [`Debugger::advance`] (the
@@ -564,8 +600,17 @@ impl Debugger {
     }
 
     /// One frame at a factor of real time: exactly the ticks `dt` is worth (fractions carry
-    /// over), stopping at breakpoints.
-    fn advance_in_real_time(&mut self, goal: Goal, factor: f64, dt: f64) -> bool {
+    /// over), stopping at breakpoints, in chunks within the frame's `budget`: what a frame
+    /// cannot run in its budget is dropped (the run falls behind real time rather than
+    /// freezing the window).
+    fn advance_in_real_time(
+        &mut self,
+        goal: Goal,
+        factor: f64,
+        dt: f64,
+        budget: Duration,
+    ) -> bool {
+        let started = Instant::now();
         let micros = f64::from(self.machine().tick_micros().max(1));
         let factor = if factor.is_finite() {
             factor.max(0.0)
@@ -577,7 +622,7 @@ impl Debugger {
         self.credit -= whole;
         let target = Pos::at_tick(self.pos().tick.saturating_add(whole as u64));
         let checker = (!self.checker.get_mut().is_empty()).then_some(&self.checker);
-        let stop = StopWhen {
+        let mut stop = StopWhen {
             checker,
             line: match goal {
                 Goal::ToLine(l) => Some(l),
@@ -587,8 +632,21 @@ impl Debugger {
             on_error: self.break_on_error && !self.machine().error_lamp(),
             ..StopWhen::default()
         };
-        let reason = self.engine.forward(target, &stop);
-        self.settle(goal, reason)
+        let mut chunk = FIRST_CHUNK_TICKS;
+        loop {
+            let next = target.min(Pos::at_tick(self.pos().tick.saturating_add(chunk)));
+            let reason = self.engine.forward(next, &stop);
+            // Only the run's very first boundary is skipped (resuming from a breakpoint).
+            stop.skip_first = false;
+            if reason != StopReason::TickLimit || self.pos() >= target {
+                return self.settle(goal, reason);
+            }
+            if started.elapsed() >= budget {
+                self.credit = 0.0;
+                return true;
+            }
+            chunk = chunk.saturating_mul(2).min(CHUNK_TICKS);
+        }
     }
 
     /// What a stretch of a run ended with: stopped (false) or still running (true).
@@ -664,41 +722,101 @@ impl Debugger {
 
     /// Back to where the last instruction started (Shift+F10).
     pub fn step_back_command(&mut self) {
-        let Some(now) = self.going_back() else {
-            return;
-        };
-        let any = StopWhen {
-            any: true,
-            ..StopWhen::default()
-        };
-        let start = self.engine.find_back(now, &any).unwrap_or_default();
-        self.engine.goto(start);
-        self.event = Some(Event::SteppedBack);
+        self.search_back(false);
     }
 
     /// Back to the last time a breakpoint stopped a run, or the start (Shift+F5): line
     /// breakpoints before their line, data breakpoints after the write.
     pub fn reverse_continue(&mut self) {
+        self.search_back(true);
+    }
+
+    /// Start a search back from the current position: up to [`BACK_TICKS_AT_ONCE`] ticks of
+    /// replay now, the rest over the next frames (within each frame's budget) with the goal
+    /// [`Goal::Back`]; Pause cancels it where it started.
+    fn search_back(&mut self, breakpoints: bool) {
         let Some(now) = self.going_back() else {
             return;
         };
-        let checker = std::cell::RefCell::new(super::breakpoints::Checker::backward(
-            &self.breaks,
-            self.engine.machine(),
-        ));
-        let at_breakpoint = StopWhen {
-            checker: Some(&checker),
-            ..StopWhen::default()
+        let checker = if breakpoints {
+            super::breakpoints::Checker::backward(&self.breaks, self.engine.machine(), self.lines())
+        } else {
+            super::breakpoints::Checker::default()
         };
-        let hit = self.engine.find_back(now, &at_breakpoint);
-        self.engine.goto(hit.unwrap_or_default());
-        // The search's record of its last match is the match it went back to.
-        let which = checker.into_inner().hit;
-        self.event = Some(match hit {
-            Some(_) => self.breakpoint_event(which),
-            None => Event::NoEarlierBreakpoint,
+        self.back = Some(Back {
+            breakpoints,
+            search: BackSearch::new(now),
+            checker: RefCell::new(checker),
+        });
+        self.goal = Some(Goal::Back);
+        self.event = None;
+        self.go_on_back(None);
+    }
+
+    /// Go on with the search back: one call of [`BACK_TICKS_AT_ONCE`] ticks without a
+    /// `deadline`, else calls of one checkpoint interval until the deadline passes. True while
+    /// it goes on.
+    fn go_on_back(&mut self, deadline: Option<Instant>) -> bool {
+        let Some(mut back) = self.back.take() else {
+            self.goal = None;
+            return false;
+        };
+        let ticks = if deadline.is_some() {
+            super::history::CHECKPOINT_EVERY
+        } else {
+            BACK_TICKS_AT_ONCE
+        };
+        loop {
+            let wanted = StopWhen {
+                any: !back.breakpoints,
+                checker: back.breakpoints.then_some(&back.checker),
+                ..StopWhen::default()
+            };
+            self.engine.find_back_some(&mut back.search, ticks, &wanted);
+            if back.search.is_done() {
+                self.finish_back(back);
+                return false;
+            }
+            if deadline.is_none_or(|d| Instant::now() >= d) {
+                self.back = Some(back);
+                return true;
+            }
+        }
+    }
+
+    fn finish_back(&mut self, back: Back) {
+        self.goal = None;
+        let found = back.search.found();
+        self.engine.goto(found.unwrap_or_default());
+        self.event = Some(if !back.breakpoints {
+            Event::SteppedBack
+        } else if found.is_some() {
+            // The search's record of its last match is the match it went back to.
+            let which = back.checker.into_inner().hit;
+            self.breakpoint_event(which)
+        } else {
+            Event::NoEarlierBreakpoint
         });
     }
+
+    /// How far back a search in progress has looked (the status bar's progress).
+    pub fn back_searched_to(&self) -> Option<Pos> {
+        match (self.goal, &self.back) {
+            (Some(Goal::Back), Some(back)) => Some(back.search.reached()),
+            _ => None,
+        }
+    }
+}
+
+/// Ticks a search back replays at once when it starts; a longer one goes on over frames.
+pub const BACK_TICKS_AT_ONCE: u64 = 4 * super::history::CHECKPOINT_EVERY;
+
+/// A search back in progress.
+pub(crate) struct Back {
+    /// For a breakpoint (reverse-continue) or for any boundary (step back).
+    breakpoints: bool,
+    search: BackSearch,
+    checker: RefCell<Checker>,
 }
 
 #[cfg(test)]

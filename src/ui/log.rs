@@ -11,13 +11,17 @@ use egui::RichText;
 use super::Command;
 use super::theme::palette;
 use crate::debugger::Debugger;
-use crate::debugger::log::{ExecutionLog, LogFilter};
+use crate::debugger::log::{ExecutionLog, LogFilter, LogSearch};
 use crate::machine::Pos;
 
 /// Entries shown at most.
 pub const MAX_ROWS: usize = 500;
-/// Ticks searched back at most for a filter that matches rarely (bounded work per refresh).
+/// Ticks searched back at most for a filter that matches rarely.
 pub const MAX_SEARCH_TICKS: u64 = 2_000_000;
+/// Wall time a frame gives the log's search; the rest goes on in the next frames. Each step of
+/// the search replays at most one checkpoint interval, so a frame overshoots this by at most
+/// one step.
+pub const SEARCH_PER_FRAME: std::time::Duration = std::time::Duration::from_millis(8);
 
 const FILTERS: [&str; 3] = ["every instruction", "line", "writes to"];
 
@@ -32,6 +36,8 @@ pub struct LogView {
     key: Option<(u64, Pos, Pos, usize, LogFilter)>,
     /// Scroll to the newest entry on the next draw.
     scroll_to_end: bool,
+    /// The search in progress for `key`, going on over frames.
+    search: Option<LogSearch>,
 }
 
 impl LogView {
@@ -74,12 +80,40 @@ impl LogView {
             debugger.events().len(),
             filter,
         );
-        if self.key.as_ref() == Some(&key) {
-            return;
+        if self.key.as_ref() != Some(&key) {
+            self.search = Some(LogSearch::new(
+                filter,
+                MAX_ROWS,
+                MAX_SEARCH_TICKS,
+                debugger.pos(),
+            ));
+            self.key = Some(key);
         }
-        self.log = debugger.execution_log(filter, MAX_ROWS, MAX_SEARCH_TICKS);
-        self.key = Some(key);
+        self.go_on_searching(debugger, SEARCH_PER_FRAME);
+    }
+
+    /// Search on for `budget` (at least one step), showing what was found so far.
+    pub fn go_on_searching(&mut self, debugger: &mut Debugger, budget: std::time::Duration) {
+        let Some(search) = &mut self.search else {
+            return;
+        };
+        let started = std::time::Instant::now();
+        loop {
+            debugger.search_log(search);
+            if search.is_done() || started.elapsed() >= budget {
+                break;
+            }
+        }
+        self.log = debugger.log_found(search);
         self.scroll_to_end = true;
+        if search.is_done() {
+            self.search = None;
+        }
+    }
+
+    /// Where the search in progress has got to (None when the log is complete).
+    pub fn searching_from(&self) -> Option<Pos> {
+        self.search.as_ref().map(LogSearch::searched_from)
     }
 
     /// The shown entries as CSV: position, line, explanation, written locations.
@@ -174,7 +208,17 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut LogView, out: &mu
         return;
     }
     let log = &view.log;
-    if log.rows.is_empty() {
+    if let Some(from) = view.searching_from() {
+        ui.ctx().request_repaint();
+        ui.horizontal(|ui| {
+            ui.spinner();
+            ui.label(
+                RichText::new(format!("Searching back… at {tick} {from}"))
+                    .small()
+                    .color(p.dim),
+            );
+        });
+    } else if log.rows.is_empty() {
         ui.label(RichText::new("Nothing executed before here matches.").color(p.dim));
     } else if !log.complete && log.rows.len() < MAX_ROWS {
         ui.label(

@@ -208,6 +208,10 @@ impl ServoscopeApp {
             .unwrap_or(("new", dialect.new_program));
         let mut debugger = Debugger::with_dialect(dialect, name, text);
         debugger.set_speed(prefs.speed);
+        // Leftovers of saves killed last time, in the folders the user works in.
+        for folder in prefs.recent.iter().filter_map(|p| p.parent()) {
+            crate::atomic::remove_stale_temporaries(folder);
+        }
         let registers = registers::RegisterView::new(&prefs);
         let panels = (dialect.panels)();
         let titles: Vec<&str> = panels.iter().map(|p| p.title()).collect();
@@ -504,6 +508,13 @@ impl ServoscopeApp {
         self.session_path = Some(path.to_path_buf());
         self.fresh_views();
         self.apply_view_settings(&session.view);
+        if !session.warnings.is_empty() {
+            self.notice = Some(format!(
+                "Opened {}, but {}",
+                path.display(),
+                session.warnings.join("; ")
+            ));
+        }
     }
 
     /// Whether the program text differs from what was opened or last saved as a program.

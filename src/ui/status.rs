@@ -13,6 +13,10 @@ pub fn state_text(debugger: &Debugger) -> String {
     if debugger.has_errors() {
         return "not assembled".to_string();
     }
+    if let Some(reached) = debugger.back_searched_to() {
+        let tick = debugger.dialect().vocabulary.tick;
+        return format!("searching back (at {tick} {}; Pause cancels)", reached.tick);
+    }
     match (debugger.is_running(), m.run_state()) {
         (true, RunState::Running) => "running".to_string(),
         (true, state) => format!("running ({})", state.label()),

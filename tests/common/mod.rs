@@ -100,3 +100,18 @@ pub fn channel_named(m: &dyn MachineView, name: &str) -> servoscope::debugger::t
         expr: None,
     }
 }
+
+/// Every location of `m` with its value, by name: what "the whole state" means when two
+/// machines are compared through the dialect-neutral view.
+pub fn every_value(m: &dyn MachineView) -> Vec<(String, u64)> {
+    let mut out = Vec::new();
+    for (space, info) in m.spaces().iter().enumerate() {
+        for index in 0..info.len {
+            let loc = servoscope::machine::Loc::new(space as u8, index);
+            if let Some(i) = m.info(loc) {
+                out.push((i.name, m.read(loc)));
+            }
+        }
+    }
+    out
+}
