@@ -147,6 +147,8 @@ pub enum EditError {
     NotAssembled,
     #[error("{name} has {width} bit(s): there is no bit {bit}")]
     NoSuchBit { name: String, bit: u8, width: u8 },
+    #[error("the program has {0}: step back or reset to change its state")]
+    Stopped(&'static str),
 }
 
 impl Change {
@@ -680,6 +682,12 @@ impl Debugger {
     pub fn edit(&mut self, loc: Loc, change: Change) -> Result<(), EditError> {
         if self.has_errors() {
             return Err(EditError::NotAssembled);
+        }
+        // A stopped run has no future for an edit to change, and an edit recorded at the
+        // stop's position would replay before the instruction that stopped it: refused.
+        let state = self.machine().run_state();
+        if !state.is_live() {
+            return Err(EditError::Stopped(state.label()));
         }
         let info = self
             .machine()
