@@ -50,7 +50,11 @@ fn benches(c: &mut Criterion) {
         group.bench_function(name, |b| {
             b.iter(|| {
                 let mut engine = start.restarted(Vec::new(), Vec::new());
-                let checker = RefCell::new(Checker::new(&list, engine.machine(), ARITHMETIC.lines().count()));
+                let checker = RefCell::new(Checker::new(
+                    &list,
+                    engine.machine(),
+                    ARITHMETIC.lines().count(),
+                ));
                 let stop = StopWhen {
                     checker: (!checker.borrow().is_empty()).then_some(&checker),
                     ..StopWhen::default()

@@ -39,7 +39,11 @@ impl Rng {
         z ^ (z >> 31)
     }
     fn below(&mut self, n: usize) -> usize {
-        if n == 0 { 0 } else { (self.next() % n as u64) as usize }
+        if n == 0 {
+            0
+        } else {
+            (self.next() % n as u64) as usize
+        }
     }
     fn chance(&mut self, percent: u64) -> bool {
         self.next() % 100 < percent
@@ -51,18 +55,54 @@ impl Rng {
 
 /// Numbers that find edges: widths, signs, the limits of every integer type.
 const INTERESTING: &[&str] = &[
-    "0", "1", "-1", "2", "7", "8", "15", "16", "31", "32", "63", "64", "99", "100", "127", "128",
-    "255", "256", "999", "1000", "9999", "32767", "32768", "-32768", "65535", "65536",
-    "2147483647", "2147483648", "-2147483648", "4294967295", "4294967296", "9223372036854775807",
-    "18446744073709551615", "99999999999999999999", "0x7FFFFFFF", "0xFFFFFFFF", "0b101", "1e12",
-    "0.5", "-0.0", "1000000000",
+    "0",
+    "1",
+    "-1",
+    "2",
+    "7",
+    "8",
+    "15",
+    "16",
+    "31",
+    "32",
+    "63",
+    "64",
+    "99",
+    "100",
+    "127",
+    "128",
+    "255",
+    "256",
+    "999",
+    "1000",
+    "9999",
+    "32767",
+    "32768",
+    "-32768",
+    "65535",
+    "65536",
+    "2147483647",
+    "2147483648",
+    "-2147483648",
+    "4294967295",
+    "4294967296",
+    "9223372036854775807",
+    "18446744073709551615",
+    "99999999999999999999",
+    "0x7FFFFFFF",
+    "0xFFFFFFFF",
+    "0b101",
+    "1e12",
+    "0.5",
+    "-0.0",
+    "1000000000",
 ];
 
 /// Odd text: other scripts, controls, operators, brackets, separators.
 const ODD: &[&str] = &[
-    "é", "٣", "\u{200b}", "\t", ";", ",", ":", "(", ")", "[", "]", "{", "}", "\"", "'", "//",
-    "/*", "#", "$", "%", "@", "!", "=", "==", ".", "..", "\\", "q16(", "bcd(", "REP", "\u{feff}",
-    " ", "\n", "\r",
+    "é", "٣", "\u{200b}", "\t", ";", ",", ":", "(", ")", "[", "]", "{", "}", "\"", "'", "//", "/*",
+    "#", "$", "%", "@", "!", "=", "==", ".", "..", "\\", "q16(", "bcd(", "REP", "\u{feff}", " ",
+    "\n", "\r",
 ];
 
 /// Words of `text` (what a mutation may copy elsewhere).
@@ -114,7 +154,8 @@ fn mutate(text: &str, corpus: &[&str], rng: &mut Rng) -> String {
                 let odd = rng.pick(ODD).copied().unwrap_or("é");
                 let chars: Vec<char> = lines[i].chars().collect();
                 let at = rng.below(chars.len() + 1);
-                lines[i] = chars[..at].iter().collect::<String>() + odd
+                lines[i] = chars[..at].iter().collect::<String>()
+                    + odd
                     + &chars[at..].iter().collect::<String>();
             }
             7 => {
@@ -126,7 +167,10 @@ fn mutate(text: &str, corpus: &[&str], rng: &mut Rng) -> String {
                 // A generated line of words from the corpus.
                 let n = 1 + rng.below(4);
                 let ws: Vec<&str> = (0..n).filter_map(|_| rng.pick(corpus).copied()).collect();
-                lines.insert(rng.below(lines.len() + 1), ws.join(if rng.chance(50) { " " } else { ", " }));
+                lines.insert(
+                    rng.below(lines.len() + 1),
+                    ws.join(if rng.chance(50) { " " } else { ", " }),
+                );
             }
         }
     }
@@ -180,13 +224,17 @@ fn moment(d: &Debugger) -> String {
     out
 }
 
-/// Run the debugger's goal to its end (bounded: every advance makes progress or stops).
-fn settle(d: &mut Debugger) {
-    for _ in 0..100_000 {
-        if !d.advance(0.016, Duration::from_millis(20)) {
+/// Let the debugger's goal run for at most `frames` frames, then pause it: a step of an
+/// instruction that waits for ever (a move of 2^31 counts) is a user's to pause, not a hang.
+/// Each frame has no time budget, so it runs one chunk (they double while cheap): cases cost
+/// work, not wall time.
+fn settle(d: &mut Debugger, frames: usize) {
+    for _ in 0..frames {
+        if !d.advance(0.016, Duration::ZERO) {
             return;
         }
     }
+    d.pause();
 }
 
 /// A location of the program (one it uses, or any).
@@ -244,7 +292,7 @@ fn program_case(dialect: &'static Dialect, source: &str, rng: &mut Rng) -> Resul
     for _ in 0..1 + rng.below(3) {
         let tick = d.pos().tick + rng.below(far) as u64;
         d.goto_tick(tick);
-        settle(&mut d);
+        settle(&mut d, 200);
         if let Some(loc) = some_loc(d.machine(), rng) {
             let _ = match rng.below(3) {
                 0 => d.set_value(loc, rng.next() >> rng.below(64)),
@@ -256,21 +304,18 @@ fn program_case(dialect: &'static Dialect, source: &str, rng: &mut Rng) -> Resul
     }
     // A run to a breakpoint or the end, or for a few frames of an endless program.
     d.run();
-    for _ in 0..3 {
-        d.advance(0.016, Duration::from_millis(2));
-    }
-    d.pause();
+    settle(&mut d, 4);
     for _ in 0..rng.below(5) {
         d.step_command();
-        settle(&mut d);
+        settle(&mut d, 5);
     }
     // Time travel: back and forth must land on the same state.
     let here = d.pos();
     let now = moment(&d);
     d.step_back_command();
-    settle(&mut d);
+    settle(&mut d, 200);
     d.reverse_continue();
-    settle(&mut d);
+    settle(&mut d, 200);
     let furthest = d.furthest();
     let somewhere = Pos {
         tick: rng.next() % (furthest.tick + 1),
@@ -369,14 +414,18 @@ fn session_seeds() -> Vec<String> {
             let mut d = Debugger::with_dialect(dialect, *name, *source);
             d.set_speed(Speed::Unlimited);
             d.toggle_breakpoint(2);
-            d.add_breakpoint(Breakpoint::line(3).with_condition("1 == 1").with_hit_count(3));
+            d.add_breakpoint(
+                Breakpoint::line(3)
+                    .with_condition("1 == 1")
+                    .with_hit_count(3),
+            );
             d.goto_tick(300);
-            settle(&mut d);
+            settle(&mut d, 200);
             if let Some(loc) = some_loc(d.machine(), &mut rng) {
                 let _ = d.set_value(loc, 1);
             }
             d.goto_tick(900);
-            settle(&mut d);
+            settle(&mut d, 200);
             if let Ok(text) = Session::capture(&d, None, ViewSettings::default()).to_ron() {
                 seeds.push(text);
             }
@@ -564,7 +613,11 @@ fn campaign(target: &str, cases: u64, seed: u64, out: &Path, watch: &Watch) -> C
 fn usage() -> ExitCode {
     eprintln!(
         "usage: fuzz DIALECT|session|all CASES SEED [--out DIR] [--limit-ms N]\n       fuzz repro DIALECT|session FILE CASE_SEED\n(dialects: {})",
-        DIALECTS.iter().map(|d| d.name).collect::<Vec<_>>().join(", ")
+        DIALECTS
+            .iter()
+            .map(|d| d.name)
+            .collect::<Vec<_>>()
+            .join(", ")
     );
     ExitCode::from(2)
 }

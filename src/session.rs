@@ -527,7 +527,9 @@ impl Session {
         ];
         for (what, count, most) in counts {
             if count > most {
-                return Err(refuse(format!("it has {count} {what}; at most {most} are kept")));
+                return Err(refuse(format!(
+                    "it has {count} {what}; at most {most} are kept"
+                )));
             }
         }
         let texts = std::iter::once(self.program_name.as_str())
@@ -539,7 +541,12 @@ impl Session {
                 [b.condition.as_str(), b.log.as_str(), location]
             }))
             .chain(self.watches.iter().map(|w| w.expr.as_str()))
-            .chain(self.channels.iter().flatten().flat_map(|c| [c.location.as_str(), c.label.as_str()]))
+            .chain(
+                self.channels
+                    .iter()
+                    .flatten()
+                    .flat_map(|c| [c.location.as_str(), c.label.as_str()]),
+            )
             .chain(self.events.iter().map(|e| e.location.as_str()))
             .chain(self.view.formats.iter().map(|(name, _)| name.as_str()))
             .chain(self.view.selected.as_deref());
@@ -555,7 +562,12 @@ impl Session {
         }
         let last = self.program.lines().count();
         let past = |line: usize| line > last;
-        let mut dropped: Vec<usize> = self.breakpoints.iter().copied().filter(|&l| past(l)).collect();
+        let mut dropped: Vec<usize> = self
+            .breakpoints
+            .iter()
+            .copied()
+            .filter(|&l| past(l))
+            .collect();
         self.breakpoints.retain(|&l| !past(l));
         self.breakpoint_list.retain(|b| match b.line_number() {
             Some(l) if past(l) => {
@@ -651,7 +663,9 @@ impl Session {
                 let info = m
                     .info(loc)
                     .ok_or_else(|| refused("no such location".to_string()))?;
-                e.change.check(&info).map_err(|why| refused(why.to_string()))?;
+                e.change
+                    .check(&info)
+                    .map_err(|why| refused(why.to_string()))?;
                 Ok(UserEvent {
                     at: e.at,
                     loc,

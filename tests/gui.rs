@@ -1244,3 +1244,52 @@ fn a_dl205_scan_steps_through_the_stack_panel() {
     h.run_steps(2);
     h.get_by_label("At scan 0");
 }
+
+#[test]
+fn a_session_with_a_breakpoint_past_the_end_opens_and_says_what_it_dropped() {
+    let dir = std::env::temp_dir().join(format!("servoscope-gui-far-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let session = dir.join("far.ron");
+    std::fs::write(
+        &session,
+        "(format: 2, dialect: \"silverlode\", program: \"WRP 20, 1\\nEND\\n\", \
+         breakpoint_list: [(kind: Line(0x14294967295)), (kind: Line(2))])",
+    )
+    .unwrap();
+    let mut h = harness(app_with("END"));
+    h.state_mut().open_path(session);
+    h.run_steps(2);
+    h.get_by_label_contains("the breakpoint on line 1387828671125 was dropped");
+    assert_eq!(
+        h.state()
+            .debugger
+            .breakpoints()
+            .into_iter()
+            .collect::<Vec<_>>(),
+        vec![2]
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_long_search_back_says_so_in_the_status_bar_and_pause_cancels_it() {
+    let mut h = harness(app_with("loop: CLC INC, 20\nJMP loop\n"));
+    let far = 10 * servoscope::debugger::BACK_TICKS_AT_ONCE;
+    h.state_mut().debugger.goto_tick(far);
+    for _ in 0..2_000 {
+        h.step();
+        if h.state().debugger.pos().tick == far {
+            break;
+        }
+    }
+    h.state_mut()
+        .debugger
+        .add_breakpoint(servoscope::debugger::Breakpoint::line(1).with_condition("R20 < 0"));
+    h.state_mut().debugger.reverse_continue();
+    h.run_steps(1);
+    h.get_by_label_contains("searching back");
+    h.get_by_label("Pause").click();
+    h.run_steps(2);
+    assert!(!h.state().debugger.is_running());
+    assert_eq!(h.state().debugger.pos().tick, far, "where it started");
+}

@@ -8,9 +8,7 @@ use std::time::{Duration, Instant};
 
 use common::{every_value, servoscope};
 use servoscope::debugger::history::Change;
-use servoscope::debugger::{
-    BreakError, Breakpoint, ChannelChoice, Debugger, EditError, Speed,
-};
+use servoscope::debugger::{BreakError, Breakpoint, ChannelChoice, Debugger, EditError, Speed};
 use servoscope::machine::registry::{self, DIALECTS, Dialect};
 use servoscope::machine::{Format, Loc, MachineView, RunState, SpaceKind};
 use servoscope::session::{Session, SessionError, ViewSettings};
@@ -29,7 +27,10 @@ fn a_word(m: &dyn MachineView) -> Loc {
         .enumerate()
         .filter(|(_, s)| s.kind == SpaceKind::Registers)
         .flat_map(|(space, s)| (0..s.len).map(move |i| Loc::new(space as u8, i)))
-        .find(|&l| m.info(l).is_some_and(|i| i.editable && i.width > 1 && i.width < 64))
+        .find(|&l| {
+            m.info(l)
+                .is_some_and(|i| i.editable && i.width > 1 && i.width < 64)
+        })
         .expect("every dialect has an editable data word")
 }
 
@@ -160,19 +161,14 @@ fn a_breakpoint_past_the_end_set_through_the_api_sizes_nothing() {
 
 #[test]
 fn counts_and_texts_beyond_reason_are_refused_clearly() {
-    let channels: Vec<String> = (0..9)
-        .map(|i| format!("(location: \"R{i}\")"))
-        .collect();
+    let channels: Vec<String> = (0..9).map(|i| format!("(location: \"R{i}\")")).collect();
     let cases = [
         session_text(&format!("channels: Some([{}])", channels.join(", "))),
         session_text(&format!(
             "watches: [(expr: \"{}\")]",
             "R1+".repeat(2_000) + "1"
         )),
-        session_text(&format!(
-            "breakpoints: [{}]",
-            vec!["1"; 10_001].join(", ")
-        )),
+        session_text(&format!("breakpoints: [{}]", vec!["1"; 10_001].join(", "))),
     ];
     for text in cases {
         match Session::from_ron(&text, "odd.ron") {
@@ -224,9 +220,7 @@ fn a_session_with_an_impossible_edit_names_it_and_is_refused() {
         }
         other => panic!("{:?}", other.map(|_| ())),
     }
-    let wide = session_text(
-        "events: [(at: (tick: 1), location: \"IO1\", change: Set(7))]",
-    );
+    let wide = session_text("events: [(at: (tick: 1), location: \"IO1\", change: Set(7))]");
     let s = Session::from_ron(&wide, "wide.ron").expect("readable");
     assert!(matches!(
         s.restore("wide.ron"),
@@ -243,7 +237,8 @@ fn moment(d: &Debugger) -> (RunState, Option<String>, String, Vec<(String, u64)>
     let m = d.machine();
     (
         m.run_state(),
-        m.fault().map(|f| format!("{} line {}: {}", f.kind, f.line, f.message)),
+        m.fault()
+            .map(|f| format!("{} line {}: {}", f.kind, f.line, f.message)),
         m.pos().to_string(),
         every_value(m),
     )
@@ -299,7 +294,10 @@ fn a_fault_saved_by_an_older_build_reopens_faulted_from_its_mark() {
         .and_then(|s| s.restore("old.ron"))
         .expect("restores");
     assert_eq!(d.machine().run_state(), RunState::Faulted);
-    let fresh = run_to_stop(registry::default_dialect(), "DLY 23\nCLD Q_PUSH_HEAD, 20, 40, 1\nEND\n");
+    let fresh = run_to_stop(
+        registry::default_dialect(),
+        "DLY 23\nCLD Q_PUSH_HEAD, 20, 40, 1\nEND\n",
+    );
     assert_eq!(moment(&d), moment(&fresh));
 }
 
@@ -333,7 +331,12 @@ fn a_real_time_factor_from_a_file_is_clamped_and_a_frame_runs_what_its_budget_al
     let mut d = Session::from_ron(&text, "fast.ron")
         .and_then(|s| s.restore("fast.ron"))
         .expect("restores");
-    d.set_speed(Session::from_ron(&text, "fast.ron").expect("reads").view.speed);
+    d.set_speed(
+        Session::from_ron(&text, "fast.ron")
+            .expect("reads")
+            .view
+            .speed,
+    );
     assert_eq!(d.speed(), Speed::RealTime(100.0), "the fastest offered");
     d.run();
     // A frame's worth at ×100: 0.25 s (the longest frame counted) of 120 µs ticks.
@@ -354,7 +357,12 @@ fn the_first_frame_of_a_run_looks_at_the_clock_after_a_few_scans() {
     // 10,000 instructions a scan.
     let mut program = String::new();
     for i in 0..3_333 {
-        program.push_str(&format!("STR X{}\nAND X{}\nOUT Y{}\n", i % 8, (i + 1) % 8, i % 8));
+        program.push_str(&format!(
+            "STR X{}\nAND X{}\nOUT Y{}\n",
+            i % 8,
+            (i + 1) % 8,
+            i % 8
+        ));
     }
     program.push_str("END\n");
     let dl205 = registry::by_name("dl205").expect("registered");
@@ -414,7 +422,10 @@ fn step_back_and_reverse_continue_inside_a_long_move_finish_in_their_first_slice
     while d.advance(0.016, Duration::from_secs(5)) {}
     assert_eq!(d.machine().ticks(), 700_000);
     d.step_back_command();
-    assert!(!d.is_running(), "done within BACK_TICKS_AT_ONCE ticks of replay");
+    assert!(
+        !d.is_running(),
+        "done within BACK_TICKS_AT_ONCE ticks of replay"
+    );
     assert_eq!(d.pos().tick, 0, "the move began at the start");
     d.goto_tick(700_000);
     d.reverse_continue();
@@ -487,6 +498,9 @@ fn an_error_in_a_sessions_program_names_the_program_and_its_line() {
     let s = Session::from_ron(text, "lesson.ron").expect("readable");
     let e = s.restore("lesson.ron").err().expect("does not assemble");
     let text = e.to_string();
-    assert!(text.starts_with("lesson.ron: its program move.qsl"), "{text}");
+    assert!(
+        text.starts_with("lesson.ron: its program move.qsl"),
+        "{text}"
+    );
     assert!(text.contains("move.qsl:2:1"), "{text}");
 }

@@ -220,10 +220,9 @@ impl Checker {
         };
         for (index, b) in breakpoints.iter().enumerate() {
             let compiled = match b.kind {
-                BreakKind::Line(line) if line > lines => Err(BreakError::PastEnd {
-                    line,
-                    last: lines,
-                }),
+                BreakKind::Line(line) if line > lines => {
+                    Err(BreakError::PastEnd { line, last: lines })
+                }
                 _ => compile(b, m),
             };
             let (compiled, error) = match compiled {

@@ -91,8 +91,12 @@ pub trait Engine: Send {
     fn find_back(&mut self, before: Pos, wanted: &StopWhen<'_>) -> Option<Pos>;
     /// Go on with a search back for `wanted`, replaying about `budget` ticks at most (see
     /// [`Timeline::find_back_some`]); returns the ticks replayed.
-    fn find_back_some(&mut self, search: &mut BackSearch, budget: u64, wanted: &StopWhen<'_>)
-    -> u64;
+    fn find_back_some(
+        &mut self,
+        search: &mut BackSearch,
+        budget: u64,
+        wanted: &StopWhen<'_>,
+    ) -> u64;
     /// The last boundary before `before` right after an instruction that wrote `loc`.
     fn find_write_back(&mut self, before: Pos, loc: Loc) -> Option<Pos>;
     /// Call `f` after each recorded instruction ending in `from < p <= to`, until it says stop.

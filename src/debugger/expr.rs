@@ -599,7 +599,13 @@ mod tests {
     #[test]
     fn letters_outside_ascii_are_an_error_at_their_column() {
         let d = machine("END");
-        for (text, col) in [("é", 1), ("R4 > é", 6), ("Ré4", 2), ("R4 == ٣", 7), ("ÉTAT", 1)] {
+        for (text, col) in [
+            ("é", 1),
+            ("R4 > é", 6),
+            ("Ré4", 2),
+            ("R4 == ٣", 7),
+            ("ÉTAT", 1),
+        ] {
             let e = Expr::compile(text, d.machine()).expect_err(text);
             assert_eq!(e.col, col, "{text}: {e}");
             assert!(e.message.contains("A to Z"), "{text}: {e}");

@@ -184,9 +184,7 @@ impl Debugger {
             }
             Some(f) => search.to = f,
         }
-        if search.kept.len() >= search.max_rows
-            || search.now.tick - from_tick >= search.max_ticks
-        {
+        if search.kept.len() >= search.max_rows || search.now.tick - from_tick >= search.max_ticks {
             search.done = true;
         }
         search.stretch = search

@@ -629,9 +629,9 @@ impl Debugger {
     pub fn remove_breakpoint(&mut self, index: usize) {
         if index < self.breaks.len() {
             self.breaks.remove(index);
-            let old = self
-                .checker
-                .replace(Checker::new(&self.breaks, self.machine(), self.lines()));
+            let old =
+                self.checker
+                    .replace(Checker::new(&self.breaks, self.machine(), self.lines()));
             let mut hits: Vec<u64> = (0..=self.breaks.len()).map(|i| old.hits(i)).collect();
             hits.remove(index);
             let new = self.checker.get_mut();
@@ -739,7 +739,13 @@ impl Debugger {
     /// Flip one bit of a location.
     pub fn toggle_bit(&mut self, loc: Loc, bit: u8) -> Result<(), EditError> {
         // A bit past 63 reads as clear; `edit` refuses it (and any past the width).
-        let on = self.machine().read(loc).checked_shr(u32::from(bit)).unwrap_or(0) & 1 == 0;
+        let on = self
+            .machine()
+            .read(loc)
+            .checked_shr(u32::from(bit))
+            .unwrap_or(0)
+            & 1
+            == 0;
         self.edit(loc, Change::Bit { bit, on })
     }
 

@@ -603,13 +603,7 @@ impl Debugger {
     /// over), stopping at breakpoints, in chunks within the frame's `budget`: what a frame
     /// cannot run in its budget is dropped (the run falls behind real time rather than
     /// freezing the window).
-    fn advance_in_real_time(
-        &mut self,
-        goal: Goal,
-        factor: f64,
-        dt: f64,
-        budget: Duration,
-    ) -> bool {
+    fn advance_in_real_time(&mut self, goal: Goal, factor: f64, dt: f64, budget: Duration) -> bool {
         let started = Instant::now();
         let micros = f64::from(self.machine().tick_micros().max(1));
         let factor = if factor.is_finite() {
