@@ -1259,7 +1259,7 @@ fn a_session_with_a_breakpoint_past_the_end_opens_and_says_what_it_dropped() {
     let mut h = harness(app_with("END"));
     h.state_mut().open_path(session);
     h.run_steps(2);
-    h.get_by_label_contains("the breakpoint on line 1387828671125 was dropped");
+    h.get_by_label_contains("the breakpoint on line 1385472357013 was dropped");
     assert_eq!(
         h.state()
             .debugger
