@@ -583,6 +583,18 @@ impl Session {
                 "the breakpoint on line {line} was dropped: the program has {last} lines"
             ));
         }
+        let last_plot = crate::debugger::trace::PLOT_GROUPS - 1;
+        for c in self.channels.iter_mut().flatten() {
+            if c.group > last_plot {
+                self.warnings.push(format!(
+                    "the channel {} was on plot {}, which does not exist: it is on plot {} now",
+                    c.location,
+                    u16::from(c.group) + 1,
+                    last_plot + 1
+                ));
+                c.group = last_plot;
+            }
+        }
         let furthest = self.furthest.max(self.at);
         let marks = self.marks.len();
         self.marks.retain(|m| m.at <= furthest);

@@ -504,3 +504,16 @@ fn an_error_in_a_sessions_program_names_the_program_and_its_line() {
     );
     assert!(text.contains("move.qsl:2:1"), "{text}");
 }
+
+#[test]
+fn a_channel_on_a_plot_that_does_not_exist_moves_to_the_last_with_a_warning() {
+    let text = session_text("channels: Some([(location: \"R20\", group: 255)])");
+    let s = Session::from_ron(&text, "plots.ron").expect("readable");
+    assert!(
+        s.warnings.iter().any(|w| w.contains("plot 256")),
+        "{:?}",
+        s.warnings
+    );
+    let d = s.restore("plots.ron").expect("restores");
+    assert_eq!(d.channel_choices()[0].group, 3);
+}

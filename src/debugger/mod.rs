@@ -476,6 +476,9 @@ impl Debugger {
     pub fn set_channels(&mut self, channels: Vec<ChannelChoice>) {
         self.channel_names = channels;
         self.channel_names.truncate(MAX_CHANNELS);
+        for c in &mut self.channel_names {
+            c.group = c.group.min(trace::PLOT_GROUPS - 1);
+        }
         let here = self.pos();
         let furthest = self.furthest();
         let resolved = self.resolve_channels(self.engine.machine());

@@ -545,7 +545,8 @@ impl Debugger {
     /// The rate the run in progress achieves, in ticks per second (measured over about half a
     /// second).
     pub fn run_rate(&self) -> Option<f64> {
-        self.goal.and(self.rate.rate)
+        // A search back runs nothing forward: no rate to show.
+        self.goal.filter(|&g| g != Goal::Back).and(self.rate.rate)
     }
 
     /// The run's goal came true (or a breakpoint): stop and say which.

@@ -20,6 +20,8 @@ pub const BLOCK: usize = 256;
 pub const DEFAULT_CAPACITY: usize = 16 << 20;
 /// Channels a trace records at most.
 pub const MAX_CHANNELS: usize = 8;
+/// Stacked plots the channels are grouped into (a channel's group is below this).
+pub const PLOT_GROUPS: u8 = 4;
 
 /// One recorded location: where it is, how to read it and how the plot calls it.
 #[derive(Clone, Debug, PartialEq, Eq)]

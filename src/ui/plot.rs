@@ -12,7 +12,7 @@ use egui_plot::{AxisHints, Legend, Line, Plot, PlotPoints, VLine};
 
 use super::Command;
 use super::theme::{Palette, palette};
-use crate::debugger::trace::{Channel, MAX_CHANNELS, Trace};
+use crate::debugger::trace::{Channel, MAX_CHANNELS, PLOT_GROUPS, Trace};
 use crate::debugger::{ChannelChoice, Debugger};
 
 #[derive(Clone, Copy, PartialEq)]
@@ -229,9 +229,9 @@ fn channel_editor(
             });
             let mut group = c.group;
             egui::ComboBox::new(("channel_group", i), "")
-                .selected_text(format!("plot {}", group + 1))
+                .selected_text(format!("plot {}", u16::from(group) + 1))
                 .show_ui(ui, |ui| {
-                    for g in 0..4u8 {
+                    for g in 0..PLOT_GROUPS {
                         ui.selectable_value(&mut group, g, format!("plot {}", g + 1));
                     }
                 });
@@ -277,7 +277,12 @@ fn channel_editor(
                     next.push(ChannelChoice {
                         label: canonical.clone(),
                         location: canonical,
-                        group: chosen.iter().map(|c| c.group + 1).max().unwrap_or(0).min(3),
+                        group: chosen
+                            .iter()
+                            .map(|c| c.group.saturating_add(1))
+                            .max()
+                            .unwrap_or(0)
+                            .min(PLOT_GROUPS - 1),
                     });
                     out.push(Command::SetChannels(next));
                     view.new_channel.clear();

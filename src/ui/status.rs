@@ -136,9 +136,11 @@ pub fn notice_banner(ui: &mut egui::Ui, text: &str) -> bool {
         .inner_margin(6.0)
         .corner_radius(4.0)
         .show(ui, |ui| {
+            // Dismiss first and the text wrapped beside it: a long notice (a file's path and
+            // what was dropped from it) never pushes the button out of a narrow window.
             ui.horizontal(|ui| {
-                ui.label(text);
                 dismissed = ui.button("Dismiss").clicked();
+                ui.add(egui::Label::new(text).wrap());
             });
         });
     dismissed
