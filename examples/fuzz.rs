@@ -309,6 +309,19 @@ fn program_case(dialect: &'static Dialect, source: &str, rng: &mut Rng) -> Resul
         d.step_command();
         settle(&mut d, 5);
     }
+    // New plot channels rebuild the timeline from its events: nothing else changes.
+    if rng.chance(30) {
+        let before = moment(&d);
+        let mut channels = d.channel_choices().to_vec();
+        channels.truncate(rng.below(channels.len() + 1));
+        d.set_channels(channels);
+        if moment(&d) != before {
+            return Err(format!(
+                "new plot channels changed the state:\n{before}\n{}",
+                moment(&d)
+            ));
+        }
+    }
     // Time travel: back and forth must land on the same state.
     let here = d.pos();
     let now = moment(&d);

@@ -276,8 +276,13 @@ fn a_session_saved_at_a_fault_reopens_faulted_in_every_dialect_that_faults() {
             Some("Stopped on a fault".to_string()),
             "{name}: the banner"
         );
-        // Going back and forth on the timeline shows the fault at its end too.
+        // Choosing plot channels rebuilds the timeline: the fault stays.
         let mut back = back;
+        let mut channels = back.channel_choices().to_vec();
+        channels.truncate(1);
+        back.set_channels(channels);
+        assert_eq!(moment(&back), saved, "{name}: after new plot channels");
+        // Going back and forth on the timeline shows the fault at its end too.
         let end = back.pos();
         back.goto_tick(0);
         back.goto(end);

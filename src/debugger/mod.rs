@@ -134,6 +134,31 @@ fn empty_engine(dialect: &Dialect, settings: &Settings) -> Box<dyn Engine> {
     }
 }
 
+/// At the furthest position of a rebuilt timeline whose run stopped there (a fault leaves the
+/// position where the faulting instruction began, so a replay to it stops just before): run
+/// that instruction, so the engine holds the stop. True when the machine is stopped.
+fn run_into_stop(engine: &mut dyn Engine) -> bool {
+    let m = engine.machine();
+    if !m.run_state().is_live() {
+        return true;
+    }
+    let at = m.pos();
+    if at != engine.furthest() {
+        return false;
+    }
+    let next = Pos {
+        tick: at.tick,
+        step: at.step.saturating_add(1),
+    };
+    engine.forward(next, &StopWhen::default());
+    if engine.machine().run_state().is_live() {
+        // It did not stop there after all (an older file's error-lamp mark): back.
+        engine.goto(at);
+        return false;
+    }
+    true
+}
+
 /// Why a typed value was not stored.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum EditError {
@@ -284,24 +309,7 @@ impl Debugger {
     /// word for it), as the runner reports it. Does nothing elsewhere or when the run goes on
     /// from there.
     pub fn replay_stop(&mut self) {
-        if !self.machine().run_state().is_live() {
-            // The replay itself ran the stopping instruction: only the banner is missing.
-            self.after_stop(Event::Stepped);
-            return;
-        }
-        if self.pos() != self.furthest() {
-            return;
-        }
-        let at = self.pos();
-        let next = Pos {
-            tick: at.tick,
-            step: at.step.saturating_add(1),
-        };
-        self.engine.forward(next, &StopWhen::default());
-        if self.machine().run_state().is_live() {
-            // It did not stop there after all (an older file's error-lamp mark): back.
-            self.engine.goto(at);
-        } else {
+        if run_into_stop(self.engine.as_mut()) {
             self.after_stop(Event::Stepped);
         }
     }
@@ -483,8 +491,12 @@ impl Debugger {
         let furthest = self.furthest();
         let resolved = self.resolve_channels(self.engine.machine());
         let marks: Vec<Mark> = self.marks().to_vec();
+        let stopped = self.engine.stopped();
         let mut engine = self.engine.restarted(self.events().to_vec(), resolved);
         engine.forward(furthest, &StopWhen::default());
+        if stopped {
+            run_into_stop(engine.as_mut());
+        }
         for m in marks {
             engine.mark_at(m.at, m.kind, m.line);
         }
