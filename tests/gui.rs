@@ -233,6 +233,9 @@ fn an_invalid_program_shows_its_diagnostics_and_refuses_to_run() {
     let d = &h.state().debugger;
     assert!(!d.is_running());
     assert_eq!(d.machine().ticks(), 0);
+    // The status line says why nothing runs, not which key would step.
+    assert!(h.query_by_label_contains("Press F10").is_none());
+    h.get_by_label_contains("does not assemble (2 error(s))");
     // Clicking a problem puts the cursor on its line.
     h.get_by_label_contains("undefined label 'nowhere'").click();
     h.run_steps(2);
@@ -1292,4 +1295,20 @@ fn a_long_search_back_says_so_in_the_status_bar_and_pause_cancels_it() {
     h.run_steps(2);
     assert!(!h.state().debugger.is_running());
     assert_eq!(h.state().debugger.pos().tick, far, "where it started");
+}
+
+#[test]
+fn recent_files_are_remembered_as_absolute_paths() {
+    // Tests run in the package's folder, so this relative path names a real file.
+    let relative = std::path::PathBuf::from("assets/examples/call_ret.qsl");
+    let mut h = harness(app_with("END"));
+    h.state_mut().open_path(relative.clone());
+    h.run_steps(1);
+    let recent = &h.state().prefs.recent;
+    assert!(recent[0].is_absolute(), "{recent:?}");
+    assert_eq!(recent[0], std::env::current_dir().unwrap().join(&relative));
+    // Opened again by either name: one entry.
+    h.state_mut().open_path(std::env::current_dir().unwrap().join(&relative));
+    h.run_steps(1);
+    assert_eq!(h.state().prefs.recent.len(), 1);
 }

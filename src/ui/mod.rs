@@ -362,9 +362,12 @@ impl ServoscopeApp {
         )
     }
 
+    /// Put `path` first in File → Open recent, as an absolute path: a relative one would name
+    /// another file once servoscope starts in another folder.
     fn remember(&mut self, path: &Path) {
-        self.prefs.recent.retain(|p| p != path);
-        self.prefs.recent.insert(0, path.to_path_buf());
+        let path = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+        self.prefs.recent.retain(|p| *p != path);
+        self.prefs.recent.insert(0, path);
         self.prefs.recent.truncate(MAX_RECENT);
     }
 

@@ -73,7 +73,12 @@ pub fn status_bar(ui: &mut egui::Ui, debugger: &Debugger) {
         let line = m
             .last_line()
             .map_or(String::new(), |l| format!("line {l}: "));
+        let errors = debugger.diagnostics().len();
         let text = match m.explain_last() {
+            // Step and Run are disabled: say why, not which key steps.
+            _ if errors > 0 => format!(
+                "The program does not assemble ({errors} error(s)): fix it (see Problems) to run."
+            ),
             Some(e) => format!("{line}{e}"),
             None => "Press F10 to step, F5 to run.".to_string(),
         };
