@@ -93,6 +93,31 @@ fn the_manuals_subs_example() {
 // ---- The push rule and the stack's edges ------------------------------------------------------
 
 #[test]
+fn a_value_falls_off_l8_only_when_all_eight_levels_were_in_use() {
+    use servoscope::machine::dl205::StackMove;
+    // Each LD after the first pushes ACC: after n loads the depth is n - 1.
+    for loads in 2..=11u32 {
+        let body: String = (1..=loads).map(|k| format!("LD K{k:X}\n")).collect();
+        let mut m = machine(&format!("STR SP1\n{body}END")).expect("assembles");
+        // Stopped before END, right after the last load.
+        let end = loads as usize + 2;
+        m.run_until(1, |m| m.pc_line() == Some(end));
+        let depth_before = (loads - 2).min(8);
+        match m.moved {
+            StackMove::Push { entered, lost } => {
+                assert_eq!(entered, loads - 1, "ACC of the load before");
+                let expect = (depth_before == 8).then(|| loads - 9);
+                assert_eq!(
+                    lost, expect,
+                    "{loads} loads: depth {depth_before} before the push"
+                );
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+}
+
+#[test]
 fn nine_loads_push_eight_and_one_falls_off() {
     let loads: String = (1..=10).map(|k| format!("LD K{k:X}\n")).collect();
     let m = once(&loads);

@@ -1308,7 +1308,8 @@ fn recent_files_are_remembered_as_absolute_paths() {
     assert!(recent[0].is_absolute(), "{recent:?}");
     assert_eq!(recent[0], std::env::current_dir().unwrap().join(&relative));
     // Opened again by either name: one entry.
-    h.state_mut().open_path(std::env::current_dir().unwrap().join(&relative));
+    h.state_mut()
+        .open_path(std::env::current_dir().unwrap().join(&relative));
     h.run_steps(1);
     assert_eq!(h.state().prefs.recent.len(), 1);
 }

@@ -7,9 +7,11 @@ use super::{Dl205, StackMove};
 fn stack_note(m: &Dl205) -> String {
     match m.moved {
         StackMove::None => String::new(),
-        StackMove::Push { entered, lost } => {
-            format!("; push {entered:08X} to L1 (L8 {lost:08X} falls off)")
-        }
+        StackMove::Push {
+            entered,
+            lost: Some(lost),
+        } => format!("; push {entered:08X} to L1 (L8 {lost:08X} falls off)"),
+        StackMove::Push { entered, .. } => format!("; push {entered:08X} to L1"),
         StackMove::Pop { .. } => "; pop: L1 ← L2 … L8 ← 0".into(),
         StackMove::Overwrite { value } => format!("; L1 = remainder {value:08X}"),
     }

@@ -31,8 +31,9 @@ pub const LEVELS: usize = 8;
 pub enum StackMove {
     #[default]
     None,
-    /// A value entered L1; the one that fell off L8.
-    Push { entered: u32, lost: u32 },
+    /// A value entered L1; the one that fell off L8, when all eight levels were in use (a
+    /// level below the depth holds no value, so nothing is lost from it).
+    Push { entered: u32, lost: Option<u32> },
     /// L1 rose into ACC or was consumed.
     Pop { value: u32 },
     /// L1 was overwritten (DIVS, DIVBS).
@@ -170,7 +171,7 @@ impl Dl205 {
     }
 
     pub fn push(&mut self, v: u32) {
-        let lost = self.stack[LEVELS - 1];
+        let lost = (usize::from(self.depth) == LEVELS).then_some(self.stack[LEVELS - 1]);
         self.stack.copy_within(0..LEVELS - 1, 1);
         self.stack[0] = v;
         self.depth = (self.depth + 1).min(LEVELS as u8);

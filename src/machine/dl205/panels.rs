@@ -71,7 +71,7 @@ impl DialectPanel for StackPanel {
                             let colour = if used { p.text } else { p.dim.gamma_multiply(0.6) };
                             let note = match (m.moved, level) {
                                 (StackMove::Push { entered, .. }, 0) => format!("{entered:08X} pushed in"),
-                                (StackMove::Push { lost, .. }, 7) => format!("{lost:08X} fell off the bottom"),
+                                (StackMove::Push { lost: Some(lost), .. }, 7) => format!("{lost:08X} fell off the bottom"),
                                 (StackMove::Pop { value }, 0) => format!("{value:08X} popped; levels rose"),
                                 (StackMove::Overwrite { value }, 0) => format!("overwritten: {value:08X}"),
                                 _ => String::new(),
