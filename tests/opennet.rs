@@ -380,6 +380,24 @@ fn every_error_class_with_line_and_column() {
 }
 
 #[test]
+fn a_line_that_does_not_assemble_adds_no_rung_errors_after_it() {
+    for (src, line) in [
+        ("LOD I0\nADDW D0 D1 D2\nLOD I1\nOUT Q0\nEND", 2),
+        ("LOD I0\nTIM 10\nLOD I1\nOUT Q0\nEND", 2),
+        ("LOD I0\nOUT Q9\nLOD I1\nOUT Q0\nEND", 2),
+    ] {
+        let e = errors(src);
+        assert_eq!(e.len(), 1, "{src}: {e:#?}");
+        assert!(e[0].starts_with(&format!("{line}:")), "{e:?}");
+    }
+    let call = errors("LOD I0\nCALL 1\nEND");
+    assert!(
+        call[0].starts_with("2:1: error: CALL is an OpenNet instruction not supported"),
+        "{call:?}"
+    );
+}
+
+#[test]
 fn rung_structure_errors() {
     let first = errors("OUT Q0");
     assert!(

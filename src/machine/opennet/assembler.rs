@@ -20,6 +20,7 @@ pub const UNSUPPORTED: &[&str] = &[
     "LJMP", "LCAL", "LRET", "IOREF", "DISP", "DGRD", "TXD", "RXD", "CVXTY", "CVYTX", "AVRG",
     "PULS", "PWM", "RAMP", "ZRN", "PID", "NEG", "ROOT", "SUM", "IMOV", "IMOVN", "BMOV", "NSET",
     "NRS", "XCHG", "TCCST", "MOVN", "WKTIM", "WKTBL", "DTML", "DTIM", "DTMH", "DTMS", "TTIM",
+    "DJNZ", "DI", "EI", "CALL", "RET",
 ];
 
 const MAX_REP: u32 = 99;
@@ -399,6 +400,10 @@ fn instruction(ts: &[Token], program: &mut Program, suggester: &Suggester) -> (O
     (Some(mnemonic), result)
 }
 
+/// Stands in `seq` for a line that did not assemble: what it would have done to the rung is
+/// unknown, so the rung checks start afresh after it rather than report what follows from it.
+const NOT_ASSEMBLED: &str = "?";
+
 /// The rung-structure check of spec §5.1 over the known instructions: (line, mnemonic).
 fn rungs(seq: &[(usize, &'static str)], end_line: Option<usize>) -> Vec<(usize, String)> {
     let mut errors = Vec::new();
@@ -407,6 +412,11 @@ fn rungs(seq: &[(usize, &'static str)], end_line: Option<usize>) -> Vec<(usize, 
     // The first logic instruction since the last output (logic that drives nothing).
     let mut dangling: Option<usize> = None;
     for &(line, mnemonic) in seq {
+        if mnemonic == NOT_ASSEMBLED {
+            (blocks, branches, dangling) = (0, 0, None);
+            previous = Some(Kind::Output);
+            continue;
+        }
         let kind = kind_of(mnemonic);
         if kind == Kind::End {
             break;
@@ -503,11 +513,14 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
             continue;
         }
         let (mnemonic, result) = instruction(&ts, &mut program, &suggester);
-        if let Some(m) = mnemonic {
-            seq.push((line_no, m));
-            if m == "END" {
-                end_line = Some(line_no);
+        match mnemonic {
+            Some(m) if result.is_ok() => {
+                seq.push((line_no, m));
+                if m == "END" {
+                    end_line = Some(line_no);
+                }
             }
+            _ => seq.push((line_no, NOT_ASSEMBLED)),
         }
         match result {
             Ok(op) => program.instrs.push(Instr {
