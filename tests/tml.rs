@@ -650,3 +650,12 @@ fn hostile_literals_and_names_give_errors_not_panics() {
     assert_eq!(m.read(loc), 7);
     assert_ne!(m.find("IN#5"), Some(loc));
 }
+
+#[test]
+fn a_fixed_literal_without_its_leading_zero_says_how_to_write_it() {
+    let e = errors("CACC = .5;\nEND;");
+    assert_eq!(e.len(), 1, "{e:?}");
+    assert!(e[0].starts_with("1:8: error: write 0.5"), "{e:?}");
+    let e = errors("fixed f;\nf = -.25;\nEND;");
+    assert!(e[0].contains("write 0.25"), "{e:?}");
+}

@@ -98,8 +98,12 @@ fn lex(text: &[char], start: usize) -> Vec<Token> {
                 col,
                 len: i - begin,
             });
-        } else if c.is_ascii_digit() {
+        } else if c.is_ascii_digit()
+            || (c == '.' && text.get(i + 1).is_some_and(char::is_ascii_digit))
+        {
+            // `.5` too, so it is refused as a number ("write 0.5"), not as punctuation.
             let begin = i;
+            i += 1;
             while i < text.len() && (text[i].is_ascii_alphanumeric() || text[i] == '.' || text[i] == '_')
             {
                 i += 1;
@@ -324,6 +328,13 @@ fn signed_number(ts: &[Token], at: &mut usize) -> Option<Result<(i128, bool, usi
     let (v, fixed) = match &t.tok {
         Tok::Int(v) => (*v, false),
         Tok::Fixed(v) => (*v, true),
+        Tok::BadNumber(w) if w.starts_with('.') => {
+            return Some(err(
+                t.col,
+                t.len,
+                format!("write 0{w}: a fixed literal has a digit before its point"),
+            ));
+        }
         Tok::BadNumber(w) => {
             return Some(err(t.col, t.len, format!("malformed number '{w}'")));
         }
