@@ -264,6 +264,23 @@ fn edits_assemble_on_ctrl_enter() {
 }
 
 #[test]
+fn ctrl_enter_in_the_frame_of_a_keystroke_assembles_the_text_on_screen() {
+    let mut h = harness(app_with("WRP 11, 1\nEND\n"));
+    h.get_by_role(egui::Role::MultilineTextInput).focus();
+    h.step();
+    h.key_press_modifiers(Modifiers::COMMAND, Key::A);
+    h.step();
+    // The typing and the shortcut arrive in one frame.
+    h.event(egui::Event::Text("WRP 11, 7\nEND\n".to_string()));
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Enter);
+    h.step();
+    let d = &h.state().debugger;
+    assert!(d.source().contains("WRP 11, 7"), "{}", d.source());
+    assert!(!d.is_edited(), "what was assembled is the text on screen");
+    assert!(d.diagnostics().is_empty());
+}
+
+#[test]
 fn a_fault_shows_its_banner_and_keeps_the_state() {
     let mut h = harness(app_with("WRP 11, 0\nWRP 10, 9\nCLC DIV, 11\nEND"));
     h.state_mut().debugger.set_speed(Speed::Unlimited);

@@ -805,7 +805,11 @@ impl ServoscopeApp {
 
         self.poll_loading(&ctx);
         let mut commands = Vec::new();
-        controls::shortcuts(&ctx, &self.debugger, &self.code, &mut commands);
+        // Keys are taken now (before a widget sees them) but acted on at the end of the frame,
+        // after the editor's text of this same frame: Ctrl+Enter right after a keystroke
+        // assembles the text on screen.
+        let mut keyed = Vec::new();
+        controls::shortcuts(&ctx, &self.debugger, &self.code, &mut keyed);
         files::dropped_files(&ctx, &mut commands);
         self.files.poll(&mut commands);
         if self.loading.is_some() {
@@ -891,8 +895,13 @@ impl ServoscopeApp {
         if self.loading.is_some() {
             // The session being opened replaces this one: nothing more happens to it meanwhile.
             commands.clear();
+            keyed.clear();
         }
-        for c in commands {
+        if !keyed.is_empty() {
+            // The frame drew the state before the keys: the next one shows what they did.
+            ctx.request_repaint();
+        }
+        for c in commands.into_iter().chain(keyed) {
             self.apply(&ctx, c);
         }
         self.prefs.register_format = self.registers.format;
