@@ -534,3 +534,19 @@ fn rungs_start_where_the_spec_says() {
     let m = machine("STR X0\nOUT Y0\nAND X1\nOUT Y1\nSTR X2\nSTR X3\nORSTR\nOUT Y2\nEND").unwrap();
     assert_eq!(rung_starts(&m.program.instrs), [0, 4]);
 }
+
+#[test]
+fn incb_and_set_are_explained_by_what_they_wrote_not_by_acc() {
+    let mut m = machine("STR SP1\nLD K7\nINCB V2000\nSET C3\nDECB V2000\nEND").expect("assembles");
+    let explained_at = |m: &mut Dl205, line: usize| {
+        m.run_until(1, |m| m.pc_line() == Some(line + 1));
+        m.explain_last().unwrap_or_default()
+    };
+    let incb = explained_at(&mut m, 3);
+    assert!(incb.contains("V2000 = 0000 + 1 = 0001"), "{incb}");
+    assert!(!incb.contains("ACC ="), "INCB does not touch ACC: {incb}");
+    let set = explained_at(&mut m, 4);
+    assert!(set.ends_with("C3 = 1"), "{set}");
+    let decb = explained_at(&mut m, 5);
+    assert!(decb.contains("V2000 = 0001 − 1 = 0000"), "{decb}");
+}

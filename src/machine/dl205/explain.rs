@@ -67,6 +67,26 @@ pub fn explain(m: &Dl205) -> Option<String> {
                 stack_note(m)
             )
         }
+        // These leave ACC and the stack alone: say what they wrote.
+        Op::IncB(a) | Op::DecB(a) => {
+            let now = m.v.get(a as usize).copied().unwrap_or(0);
+            let by = if matches!(ins.op, Op::IncB(_)) { "+ 1" } else { "− 1" };
+            let was = if matches!(ins.op, Op::IncB(_)) {
+                now.wrapping_sub(1)
+            } else {
+                now.wrapping_add(1)
+            };
+            format!("{text}: V{a:o} = {was:04X} {by} = {now:04X} (binary; ACC untouched)")
+        }
+        Op::Set(from, to) | Op::Rst(from, to) => {
+            let on = matches!(ins.op, Op::Set(..));
+            let range = if from == to {
+                bit_name(from)
+            } else {
+                format!("{} … {}", bit_name(from), bit_name(to))
+            };
+            format!("{text}: {range} = {}", u8::from(on))
+        }
         _ => format!("{text}: ACC = {:08X}{}", m.acc, stack_note(m)),
     })
 }
