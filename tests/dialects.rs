@@ -211,3 +211,35 @@ fn the_window_opens_every_example_of_every_dialect() {
         assert!(h.state().debugger.diagnostics().is_empty());
     }
 }
+
+#[test]
+fn every_dialects_hints_use_its_own_names() {
+    for d in DIALECTS {
+        let debugger = servoscope::debugger::Debugger::with_dialect(d, "e", d.examples[0].1);
+        let words = d.vocabulary;
+        let hints = words
+            .watch_hint
+            .split(", ")
+            .chain([words.location_hint, words.condition_hint]);
+        for hint in hints {
+            if let Err(e) = debugger.evaluate(hint) {
+                panic!(
+                    "{}: the hint '{hint}' is not an expression there: {e}",
+                    d.name
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_new_program_starts_without_the_last_ones_watches_and_breakpoints() {
+    let dl205 = registry::by_name("dl205").expect("registered");
+    let opennet = registry::by_name("opennet").expect("registered");
+    let mut d = servoscope::debugger::Debugger::with_dialect(dl205, "a", dl205.examples[0].1);
+    d.add_watch("V2000", servoscope::machine::Format::Bcd);
+    d.toggle_breakpoint(2);
+    d.load_as(opennet, "new.opennet", opennet.new_program);
+    assert!(d.watches().is_empty());
+    assert!(d.breakpoint_list().is_empty());
+}

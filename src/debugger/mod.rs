@@ -531,7 +531,9 @@ impl Debugger {
         self.name = name.into();
         self.source = crate::text::normalize(&source.into()).into_owned();
         self.assembled_source.clear();
+        // Breakpoints and watches belong to their program: a new one starts clean.
         self.breaks.clear();
+        self.watches.clear();
         self.assemble();
         // The text is as loaded, not edited, even when it does not assemble.
         self.assembled_source = self.source.clone();

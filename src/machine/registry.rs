@@ -88,6 +88,11 @@ pub struct Vocabulary {
     /// "command", "statement" or "instruction".
     pub step: &'static str,
     pub steps: &'static str,
+    /// Hints in the dialect's own names for the fields that take them: a location, an
+    /// expression to watch (examples separated by ", ") and a breakpoint condition.
+    pub location_hint: &'static str,
+    pub watch_hint: &'static str,
+    pub condition_hint: &'static str,
 }
 
 /// One setting of a dialect's model, with its stable range.

@@ -120,10 +120,11 @@ fn row(ui: &mut egui::Ui, debugger: &Debugger, i: usize, b: &Breakpoint, out: &m
     ui.horizontal(|ui| {
         ui.label("if");
         let room = (ui.available_width() - 120.0).max(80.0);
+        let words = debugger.dialect().vocabulary;
         text_field(
             ui,
             &mut edited.condition,
-            "always, or e.g. R4 > 1000 && IO3",
+            &format!("always, or e.g. {}", words.condition_hint),
             format!("Condition of breakpoint {n}"),
             room,
         );
@@ -144,7 +145,10 @@ fn row(ui: &mut egui::Ui, debugger: &Debugger, i: usize, b: &Breakpoint, out: &m
         text_field(
             ui,
             &mut edited.log,
-            "stop here, or log e.g. R4 = {R4}",
+            &format!(
+                "stop here, or log e.g. {0} = {{{0}}}",
+                debugger.dialect().vocabulary.location_hint
+            ),
             format!("Log message of breakpoint {n}"),
             room,
         );
@@ -177,7 +181,7 @@ fn data_form(
         ui.label("Break when");
         let field = ui.add(
             egui::TextEdit::singleline(&mut view.location)
-                .hint_text("R4")
+                .hint_text(debugger.dialect().vocabulary.location_hint)
                 .desired_width(80.0),
         );
         field.widget_info(|| {

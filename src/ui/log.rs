@@ -191,7 +191,11 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut LogView, out: &mu
         if view.filter_kind > 0 {
             ui.add(
                 egui::TextEdit::singleline(&mut view.filter_text)
-                    .hint_text(if view.filter_kind == 1 { "7" } else { "R4" })
+                    .hint_text(if view.filter_kind == 1 {
+                        "7"
+                    } else {
+                        debugger.dialect().vocabulary.location_hint
+                    })
                     .desired_width(70.0),
             )
             .widget_info(|| egui::WidgetInfo::labeled(egui::Role::TextInput, true, "Log filter"));

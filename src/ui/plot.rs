@@ -257,7 +257,10 @@ fn channel_editor(
             .add(
                 egui::TextEdit::singleline(&mut view.new_channel)
                     .desired_width(90.0)
-                    .hint_text("R7, ACC, …"),
+                    .hint_text(format!(
+                        "{}, …",
+                        debugger.dialect().vocabulary.location_hint
+                    )),
             )
             .labelled_by(label.id);
         let entered = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));

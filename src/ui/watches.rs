@@ -41,7 +41,7 @@ pub fn show(
     ui.horizontal(|ui| {
         let field = ui.add(
             egui::TextEdit::singleline(&mut view.new_expr)
-                .hint_text("R4 + R5, PSW.12, TPOS - APOS")
+                .hint_text(debugger.dialect().vocabulary.watch_hint)
                 .desired_width(ui.available_width() - 60.0),
         );
         field.widget_info(|| egui::WidgetInfo::labeled(egui::Role::TextInput, true, "New watch"));

@@ -14,6 +14,9 @@ pub static DIALECT: Dialect = Dialect {
         ticks: "scans",
         step: "instruction",
         steps: "instructions",
+        location_hint: "V2000",
+        watch_hint: "V2000 & 0xFF, ACC",
+        condition_hint: "V2000 == 0x25 && X0",
     },
     examples: &[
         ("subs.dl205", include_str!("../../../assets/examples/subs.dl205")),

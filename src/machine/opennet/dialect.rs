@@ -14,6 +14,9 @@ pub static DIALECT: Dialect = Dialect {
         ticks: "scans",
         step: "instruction",
         steps: "instructions",
+        location_hint: "D0",
+        watch_hint: "D0 + D1, M8004",
+        condition_hint: "D0 > 100 && I0",
     },
     examples: &[
         (

@@ -17,6 +17,9 @@ pub static DIALECT: Dialect = Dialect {
         ticks: "ticks",
         step: "command",
         steps: "commands",
+        location_hint: "R4",
+        watch_hint: "R4 + R5, PSW.12, R0 - R1",
+        condition_hint: "R4 > 1000 && IO3",
     },
     examples: &[
         (

@@ -14,6 +14,9 @@ pub static DIALECT: Dialect = Dialect {
         ticks: "ticks",
         step: "statement",
         steps: "statements",
+        location_hint: "APOS",
+        watch_hint: "TPOS - APOS, APOS",
+        condition_hint: "APOS > 1000",
     },
     examples: &[
         (
