@@ -220,3 +220,23 @@ fn hovering_shows_values_in_every_format() {
     h.run_steps(6);
     h.get_by_label_contains("  Q16.16  1.5");
 }
+
+#[test]
+fn hovering_a_relay_or_an_input_says_on_or_off_only() {
+    let opennet = servoscope::machine::registry::by_name("opennet").expect("registered");
+    let mut d = servoscope::debugger::Debugger::with_dialect(
+        opennet,
+        "relay.opennet",
+        "LOD I0\nOUT M0\nEND\n",
+    );
+    let i0 = d.find("I0").expect("an input");
+    d.set_input(i0, true).expect("switched");
+    d.step_tick();
+    let m0 = hover_value(d.machine(), "M0").expect("a relay");
+    assert!(m0.lines().any(|l| l == "ON"), "{m0}");
+    for reading in ["signed", "Q16.16", "-1", "−1"] {
+        assert!(!m0.contains(reading), "{reading} in {m0}");
+    }
+    let q0 = hover_value(d.machine(), "Q0").expect("an output");
+    assert!(q0.lines().any(|l| l == "OFF"), "{q0}");
+}

@@ -300,11 +300,17 @@ pub fn hover_value(m: &dyn crate::machine::MachineView, word: &str) -> Option<St
             Some(alias) => format!("{} ({alias})", info.name),
             None => info.name.clone(),
         }];
-        lines.extend(
-            Format::ALL
-                .iter()
-                .map(|f| format!("{:>8}  {}", f.name(), f.show(raw, info.width))),
-        );
+        if info.width == 1 {
+            // A relay or an input is on or off: "signed −1" or "Q16.16 −0.000015" would be
+            // readings of a number it is not.
+            lines.push(if raw != 0 { "ON" } else { "OFF" }.to_string());
+        } else {
+            lines.extend(
+                Format::ALL
+                    .iter()
+                    .map(|f| format!("{:>8}  {}", f.name(), f.show(raw, info.width))),
+            );
+        }
         lines.push("Right-click: who wrote it, break on it, watch it".to_string());
         return Some(lines.join("\n"));
     }
