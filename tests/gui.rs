@@ -1330,3 +1330,28 @@ fn recent_files_are_remembered_as_absolute_paths() {
     h.run_steps(1);
     assert_eq!(h.state().prefs.recent.len(), 1);
 }
+
+#[test]
+fn the_channels_popup_stays_open_while_its_field_is_used() {
+    let mut h = harness(app_with("WRP 20, 5\nEND\n"));
+    h.get_by_label("Channels").click();
+    h.run_steps(2);
+    // A click into the field: the popup stays, the field takes the typing.
+    h.get_by_label("Add channel").click();
+    h.run_steps(2);
+    h.get_by_label("Add channel").focus();
+    h.run_steps(1);
+    h.get_by_label("Add channel").type_text("R20");
+    h.run_steps(1);
+    h.key_press(Key::Enter);
+    h.run_steps(2);
+    assert!(
+        h.state()
+            .debugger
+            .channel_choices()
+            .iter()
+            .any(|c| c.location == "R20"),
+        "{:?}",
+        h.state().debugger.channel_choices()
+    );
+}

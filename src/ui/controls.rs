@@ -360,7 +360,7 @@ pub fn toolbar(
             .iter()
             .any(|s| s.kind == SpaceKind::Inputs && s.len > ALL_INPUTS_UP_TO);
         if large {
-            ui.menu_button("+", |ui| {
+            super::form_menu_button(ui, "+", |ui| {
                 let label = ui.label("Show input");
                 let edit = ui
                     .add(egui::TextEdit::singleline(new_input).desired_width(70.0))
@@ -380,7 +380,6 @@ pub fn toolbar(
                     }
                 }
             })
-            .response
             .on_hover_text("Show a switch for another input");
         }
     });

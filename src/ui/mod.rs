@@ -920,6 +920,23 @@ impl ServoscopeApp {
     }
 }
 
+/// A menu button whose popup holds fields (a text field, a combo box): it stays open while the
+/// user clicks inside it, and closes on a click outside, Escape or its button (a plain menu
+/// closes on any click, so its fields could not be used).
+pub fn form_menu_button<R>(
+    ui: &mut egui::Ui,
+    title: &str,
+    content: impl FnOnce(&mut egui::Ui) -> R,
+) -> egui::Response {
+    egui::containers::menu::MenuButton::new(title)
+        .config(
+            egui::containers::menu::MenuConfig::new()
+                .close_behavior(egui::PopupCloseBehavior::CloseOnClickOutside),
+        )
+        .ui(ui, content)
+        .0
+}
+
 /// A small dialog in the middle of the window.
 pub fn dialog(title: &str) -> egui::Window<'static> {
     egui::Window::new(title)

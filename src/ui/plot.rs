@@ -315,7 +315,7 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut PlotView, out: &m
         {
             view.reset();
         }
-        ui.menu_button("Channels", |ui| channel_editor(ui, debugger, view, out));
+        super::form_menu_button(ui, "Channels", |ui| channel_editor(ui, debugger, view, out));
         if ui.button("Export CSV…").clicked() {
             out.push(Command::ExportDialog);
         }
