@@ -1355,3 +1355,21 @@ fn the_channels_popup_stays_open_while_its_field_is_used() {
         h.state().debugger.channel_choices()
     );
 }
+
+#[test]
+fn a_channels_plot_is_chosen_inside_the_channels_popup() {
+    let mut h = harness(app_with("WRP 20, 5\nEND\n"));
+    h.get_by_label("Channels").click();
+    h.run_steps(2);
+    let first = h.state().debugger.channel_choices()[0].clone();
+    let other = if first.group == 2 { 4 } else { 3 };
+    h.get_by_label(&format!("{} on plot {other}", first.location))
+        .click();
+    h.run_steps(2);
+    assert_eq!(
+        h.state().debugger.channel_choices()[0].group,
+        other as u8 - 1
+    );
+    // The popup is still open.
+    h.get_by_label("Add channel");
+}

@@ -227,14 +227,22 @@ fn channel_editor(
             } else {
                 "Recorded on every tick"
             });
+            // The plot as buttons, not a combo box: a combo's own popup inside this popup
+            // would close both on a click.
             let mut group = c.group;
-            egui::ComboBox::new(("channel_group", i), "")
-                .selected_text(format!("plot {}", u16::from(group) + 1))
-                .show_ui(ui, |ui| {
-                    for g in 0..PLOT_GROUPS {
-                        ui.selectable_value(&mut group, g, format!("plot {}", g + 1));
-                    }
-                });
+            ui.label("plot");
+            for g in 0..PLOT_GROUPS {
+                ui.selectable_value(&mut group, g, format!("{}", g + 1))
+                    .on_hover_text(format!("Draw {} on plot {}", c.location, g + 1))
+                    .widget_info(|| {
+                        egui::WidgetInfo::selected(
+                            egui::Role::Button,
+                            true,
+                            g == c.group,
+                            format!("{} on plot {}", c.location, g + 1),
+                        )
+                    });
+            }
             if group != c.group {
                 let mut next = chosen.clone();
                 next[i].group = group;
