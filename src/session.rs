@@ -260,7 +260,10 @@ impl From<v1::Session> for Session {
         let event = |e: v1::Event| {
             let (location, change) = match e.edit {
                 v1::Edit::Input { input, high } => {
-                    (format!("IO{}", input + 1), Change::Set(u64::from(high)))
+                    // Wide enough for any number a file gives: IO18446744073709551616 is then
+                    // refused by name, as an input the program does not have.
+                    let number = input as u128 + 1;
+                    (format!("IO{number}"), Change::Set(u64::from(high)))
                 }
                 v1::Edit::Register { register, value } => {
                     (format!("R{register}"), Change::Set(u64::from(value)))
@@ -844,6 +847,19 @@ mod tests {
         assert_eq!(s.view, ViewSettings::default());
         let d = s.restore("old.ron").expect("restores");
         assert_eq!(d.machine().ticks(), 0);
+    }
+
+    #[test]
+    fn a_format_1_input_number_at_the_edge_of_its_type_is_refused_by_name() {
+        let text = "(format: 1, dialect: \"silverlode\", program: \"END\", \
+                    events: [(tick: 0, edit: Input(input: 18446744073709551615, high: true))])";
+        let s = Session::from_ron(text, "old.ron").expect("parses");
+        match s.restore("old.ron") {
+            Err(SessionError::UnknownLocation { location, .. }) => {
+                assert_eq!(location, "IO18446744073709551616")
+            }
+            other => panic!("{:?}", other.map(|_| ())),
+        }
     }
 
     #[test]
