@@ -7,7 +7,6 @@ mod common;
 use std::time::{Duration, Instant};
 
 use common::{every_value, servoscope};
-use servoscope::debugger::history::Change;
 use servoscope::debugger::{BreakError, Breakpoint, ChannelChoice, Debugger, EditError, Speed};
 use servoscope::machine::registry::{self, DIALECTS, Dialect};
 use servoscope::machine::{Format, Loc, MachineView, RunState, SpaceKind};
@@ -226,7 +225,6 @@ fn a_session_with_an_impossible_edit_names_it_and_is_refused() {
         s.restore("wide.ron"),
         Err(SessionError::BadEvent { index: 1, .. })
     ));
-    let _ = Change::Set(0);
 }
 
 // ---- 4. a session saved at a fault reopens faulted ------------------------------------------
