@@ -102,7 +102,12 @@ pub struct SessionMark {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct ViewSettings {
+    /// For readers before `every_location_as`; there `Signed` meant each location in its own
+    /// reading.
     pub register_format: Format,
+    /// The format chosen for every location; `None`: each in its dialect's reading. Files from
+    /// before it have only `register_format`, read by [`ViewSettings::column`].
+    pub every_location_as: Option<Format>,
     /// Formats chosen for single locations, by name.
     pub formats: Vec<(String, Format)>,
     pub only_used_registers: bool,
@@ -115,11 +120,31 @@ impl Default for ViewSettings {
     fn default() -> Self {
         ViewSettings {
             register_format: Format::Signed,
+            every_location_as: None,
             formats: Vec::new(),
             only_used_registers: true,
             selected: None,
             speed: Speed::PerSecond(10.0),
         }
+    }
+}
+
+impl ViewSettings {
+    /// Settings that show every location in `column` (`None`: each in its own reading), in a
+    /// form older readers understand too.
+    pub fn with_column(mut self, column: Option<Format>) -> Self {
+        self.every_location_as = column;
+        self.register_format = column.unwrap_or(Format::Signed);
+        self
+    }
+
+    /// The format chosen for every location, if one was. Older files say it only in
+    /// `register_format`, where `Signed` (the default) meant each location in its own reading.
+    pub fn column(&self) -> Option<Format> {
+        self.every_location_as.or(match self.register_format {
+            Format::Signed => None,
+            f => Some(f),
+        })
     }
 }
 
@@ -308,6 +333,7 @@ impl From<v1::Session> for Session {
                 only_used_registers: old.view.only_used_registers,
                 selected: old.view.selected_register.map(|r| format!("R{r}")),
                 speed: old.view.speed,
+                every_location_as: None,
             },
             ..Session::default()
         }

@@ -96,6 +96,7 @@ fn channel(index: u32) -> Channel {
         label: format!("R{index}"),
         width: 32,
         signed: true,
+        reading: servoscope::machine::Format::Signed,
         group: 0,
         expr: None,
     }

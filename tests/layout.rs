@@ -234,7 +234,7 @@ fn choosing_binary_does_not_widen_the_register_panel() {
             .expect("registers shown")
     };
     let before = width(&h);
-    h.state_mut().registers.format = Format::Binary;
+    h.state_mut().registers.set_column(Some(Format::Binary));
     h.run_steps(3);
     assert_eq!(width(&h), before);
     assert_sound_layout(h.state(), (900.0, 600.0));

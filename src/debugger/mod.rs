@@ -30,7 +30,7 @@ pub use run::{BACK_TICKS_AT_ONCE, Event, Goal, Speed};
 pub use watch::Watch;
 
 use crate::machine::registry::{self, Dialect, Settings};
-use crate::machine::{Diagnostic, Loc, MachineView, Pos, StopReason, value};
+use crate::machine::{Diagnostic, Format, Loc, MachineView, Pos, StopReason, value};
 use breakpoints::Checker;
 use history::{Change, Mark, MarkKind, UserEvent};
 use trace::{Channel, MAX_CHANNELS, Trace};
@@ -431,8 +431,8 @@ impl Debugger {
     pub fn export_trace_csv(&self, path: &std::path::Path) -> std::io::Result<usize> {
         let micros = self.machine().tick_micros();
         let trace = self.engine.trace();
-        let names: Vec<String> = self.channels().iter().map(|c| c.label.clone()).collect();
-        crate::atomic::write_atomically(path, |w| trace.write_csv(w, micros, &names))?;
+        let channels = self.channels();
+        crate::atomic::write_atomically(path, |w| trace.write_csv(w, micros, channels))?;
         Ok(trace.len())
     }
 
@@ -454,12 +454,15 @@ impl Debugger {
                 };
                 if let Some(loc) = m.find(&c.location) {
                     let info = m.info(loc)?;
+                    let reading = info.reading();
                     return Some(Channel {
                         loc,
                         label: label(&info.name),
                         name: info.name,
                         width: info.width,
-                        signed: info.signed,
+                        // A word its dialect reads as signed (an OpenNet D of type I) plots so.
+                        signed: info.signed || reading == Format::Signed,
+                        reading,
                         group: c.group,
                         expr: None,
                     });
@@ -472,6 +475,7 @@ impl Debugger {
                     name: expr.text().to_string(),
                     width: 64,
                     signed: true,
+                    reading: Format::Signed,
                     group: c.group,
                     expr: Some(expr),
                 })

@@ -14,7 +14,7 @@
 use std::ops::Range;
 
 use crate::machine::Loc;
-use crate::machine::value::sign_extend;
+use crate::machine::value::{self, Format, sign_extend};
 
 pub const BLOCK: usize = 256;
 pub const DEFAULT_CAPACITY: usize = 16 << 20;
@@ -32,6 +32,9 @@ pub struct Channel {
     pub label: String,
     pub width: u8,
     pub signed: bool,
+    /// The location's reading: BCD words are plotted as the decimal number their digits say,
+    /// Q16.16 as a real number; any other reading as the integer.
+    pub reading: Format,
     /// Channels of the same group share a plot.
     pub group: u8,
     /// A watch expression plotted instead of the location (`loc` is then unused).
@@ -55,6 +58,38 @@ impl Channel {
             sign_extend(raw, self.width)
         } else {
             (raw & crate::machine::value::mask(self.width)) as i64
+        }
+    }
+}
+
+impl Channel {
+    /// The name of the reading when it is not a plain integer ("BCD", "Q16.16").
+    pub fn reading_name(&self) -> Option<&'static str> {
+        matches!(self.reading, Format::Bcd | Format::Q16).then(|| self.reading.name())
+    }
+
+    /// The label with its reading: `ACC (BCD)`, `speed (Q16.16)`, `R1`.
+    pub fn titled(&self) -> String {
+        match self.reading_name() {
+            Some(reading) => format!("{} ({reading})", self.label),
+            None => self.label.clone(),
+        }
+    }
+
+    /// Where a stored value is drawn: BCD decoded, Q16.16 as a real number.
+    pub fn plotted(&self, v: i64) -> f64 {
+        match self.reading {
+            Format::Bcd => value::bcd_decimal(v as u64 & value::mask(self.width)) as f64,
+            Format::Q16 => value::sign_extend(v as u64, self.width) as f64 / 65536.0,
+            _ => v as f64,
+        }
+    }
+
+    /// A stored value as the user reads it: `9750`, `1.5`, `12A4 (not BCD)`.
+    pub fn value_text(&self, v: i64) -> String {
+        match self.reading {
+            Format::Bcd | Format::Q16 => self.reading.show(v as u64, self.width),
+            _ => v.to_string(),
         }
     }
 }
@@ -327,19 +362,29 @@ impl Trace {
             + self.blocks.capacity() * (std::mem::size_of::<Summary>() + 16 * self.values.len())
     }
 
-    /// CSV of every change point: `tick,time_ms,` then one column per channel under the given
-    /// names. A row holds until the next one.
+    /// CSV of every change point: `tick,time_ms,` then one column per channel, headed by its
+    /// label and reading (`ACC (BCD)`) and holding what the plot draws (BCD decoded, Q16.16 as
+    /// a decimal number). A row holds until the next one.
     pub fn write_csv(
         &self,
         out: &mut dyn std::io::Write,
         tick_micros: u32,
-        names: &[String],
+        channels: &[Channel],
     ) -> std::io::Result<()> {
-        let header: Vec<String> = names.iter().map(|n| csv_field(n)).collect();
+        let header: Vec<String> = channels.iter().map(|c| csv_field(&c.titled())).collect();
         writeln!(out, "tick,time_ms,{}", header.join(","))?;
         for s in self.samples() {
             let ms = s.tick as f64 * f64::from(tick_micros) / 1000.0;
-            let values: Vec<String> = s.values.iter().map(i64::to_string).collect();
+            let values: Vec<String> = s
+                .values
+                .iter()
+                .zip(channels)
+                .map(|(&v, c)| match c.reading {
+                    Format::Bcd => value::bcd_decimal(v as u64 & value::mask(c.width)).to_string(),
+                    Format::Q16 => value::q16_exact(sign_extend(v as u64, c.width)),
+                    _ => v.to_string(),
+                })
+                .collect();
             writeln!(out, "{},{ms:.3},{}", s.tick, values.join(","))?;
         }
         Ok(())

@@ -52,6 +52,21 @@ impl Debugger {
         self.watches = watches;
     }
 
+    /// The width of the one location a watch names, if it names just one (`V2000`, `counts`).
+    pub fn watch_width(&self, index: usize) -> Option<u8> {
+        let watch = self.watches.get(index)?;
+        let loc = self.find(&watch.expr)?;
+        Some(self.machine().info(loc)?.width)
+    }
+
+    /// The format a new watch of `expr` starts in: a location's own reading (a DL205 word in
+    /// BCD, a TML fixed in Q16.16), else signed.
+    pub fn watch_format_for(&self, expr: &str) -> Format {
+        self.find(expr.trim())
+            .and_then(|loc| self.machine().info(loc))
+            .map_or(Format::Signed, |info| info.reading())
+    }
+
     /// The watch's value at the current position, or why it has none.
     pub fn watch_value(&self, index: usize) -> Result<i64, ExprError> {
         let watch = self.watches.get(index).ok_or_else(|| ExprError {

@@ -167,6 +167,16 @@ pub struct LocInfo {
 }
 
 impl LocInfo {
+    /// The format the dialect reads this location in: its own (`format`), else signed or
+    /// unsigned decimal by `signed`.
+    pub fn reading(&self) -> Format {
+        self.format.unwrap_or(if self.signed {
+            Format::Signed
+        } else {
+            Format::Unsigned
+        })
+    }
+
     /// A plain data word.
     pub fn word(name: String, width: u8, signed: bool) -> Self {
         LocInfo {

@@ -26,6 +26,8 @@ pub enum ValueError {
     Q16TooBig(String),
     #[error("bcd({0}) needs 1 to 16 decimal digits, like bcd(1234)")]
     BadBcd(String),
+    #[error("'{text}' is not a number in {format}")]
+    NotIn { text: String, format: &'static str },
 }
 
 /// How a value is shown.
@@ -281,6 +283,122 @@ pub fn parse_value(text: &str, width: u8) -> Result<u64, ValueError> {
         });
     }
     Ok((value as u64) & mask(width))
+}
+
+/// How a typed value was read: in the field's format, or in the form the text itself names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Reading {
+    pub format: Format,
+    /// The text named its form (`0x…`, `0b…`, `0o…`, `bcd(…)`, `q16(…)`).
+    pub written: bool,
+}
+
+impl Reading {
+    /// "read as BCD (the field's format)", "read as hex (written 0x…)".
+    pub fn describe(self) -> String {
+        let name = match self.format {
+            Format::Signed | Format::Unsigned => "decimal",
+            f => f.name(),
+        };
+        if self.written {
+            let form = match self.format {
+                Format::Hex => "0x…",
+                Format::Binary => "0b…",
+                Format::Octal => "0o…",
+                Format::Bcd => "bcd(…)",
+                Format::Q16 => "q16(…)",
+                Format::Signed | Format::Unsigned => "a decimal number",
+            };
+            format!("read as {name} (written {form})")
+        } else {
+            format!("read as {name} (the field's format)")
+        }
+    }
+}
+
+/// A value typed in a field that shows `format`: plain digits are read in that format (`1234`
+/// in a BCD field is 0x1234, `1A` in a hex field is 26, `1.5` in a Q16.16 field is 98304);
+/// text that names its form (`0x…`, `0b…`, `0o…`, `bcd(…)`, `q16(…)`) is read as written.
+pub fn parse_in(text: &str, width: u8, format: Format) -> Result<(u64, Reading), ValueError> {
+    let trimmed = text.trim();
+    let lower = trimmed.to_ascii_lowercase();
+    let unsigned = lower.trim_start_matches(['-', '+']);
+    let named = [
+        ("0x", Format::Hex),
+        ("0b", Format::Binary),
+        ("0o", Format::Octal),
+    ]
+    .into_iter()
+    .find(|(prefix, _)| unsigned.starts_with(prefix))
+    .map(|(_, f)| f)
+    .or_else(|| {
+        [("bcd(", Format::Bcd), ("q16(", Format::Q16)]
+            .into_iter()
+            .find(|(prefix, _)| lower.starts_with(prefix))
+            .map(|(_, f)| f)
+    });
+    if let Some(written) = named {
+        let reading = Reading {
+            format: written,
+            written: true,
+        };
+        return parse_value(trimmed, width).map(|v| (v, reading));
+    }
+    let reading = Reading {
+        format,
+        written: false,
+    };
+    if trimmed.is_empty() {
+        return Err(ValueError::Empty);
+    }
+    // Spaces group digits in the binary and hex readings (`0000 0101`), as they are shown.
+    let digits: String = trimmed.chars().filter(|c| !c.is_whitespace()).collect();
+    let as_text = match format {
+        Format::Signed | Format::Unsigned => trimmed.to_string(),
+        Format::Hex => format!("0x{digits}"),
+        Format::Binary => format!("0b{digits}"),
+        Format::Octal => format!("0o{digits}"),
+        Format::Bcd => format!("bcd({digits})"),
+        Format::Q16 => format!("q16({trimmed})"),
+    };
+    match parse_value(&as_text, width) {
+        Ok(v) => Ok((v, reading)),
+        // Report the text as the user typed it, not as rewritten here.
+        Err(ValueError::NotANumber(_) | ValueError::BadBcd(_) | ValueError::BadQ16(_)) => {
+            Err(ValueError::NotIn {
+                text: trimmed.to_string(),
+                format: format.name(),
+            })
+        }
+        Err(ValueError::Q16TooLong(_)) => Err(ValueError::Q16TooLong(trimmed.to_string())),
+        Err(ValueError::Q16TooBig(_)) => Err(ValueError::Q16TooBig(trimmed.to_string())),
+        Err(ValueError::TooWide {
+            width, min, max, ..
+        }) => Err(ValueError::TooWide {
+            text: trimmed.to_string(),
+            width,
+            min,
+            max,
+        }),
+        Err(e) => Err(e),
+    }
+}
+
+/// The decimal number BCD digits stand for (`0x9750` → 9750); a nibble over 9 counts as its
+/// value, so a non-BCD pattern still orders sensibly (callers mark it with [`is_bcd`]).
+pub fn bcd_decimal(value: u64) -> u64 {
+    let mut out: u64 = 0;
+    for nibble in (0..16).rev() {
+        out = out
+            .wrapping_mul(10)
+            .wrapping_add(value >> (nibble * 4) & 0xF);
+    }
+    out
+}
+
+/// Every nibble of `value` is a decimal digit.
+pub fn is_bcd(value: u64) -> bool {
+    (0..16).all(|n| value >> (n * 4) & 0xF <= 9)
 }
 
 /// `bcd(1234)` = 0x1234: decimal digits as nibbles.

@@ -20,6 +20,7 @@ pub mod theme;
 pub mod timeline;
 pub mod watches;
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -111,7 +112,8 @@ pub struct Prefs {
     pub dark: bool,
     pub recent: Vec<PathBuf>,
     pub speed: Speed,
-    pub register_format: Format,
+    /// The register view's format per dialect, where the user chose one for every location.
+    pub register_formats: BTreeMap<String, Format>,
     pub only_used_registers: bool,
     /// The panel layout as the user left it; `None` for the default.
     #[serde(with = "layout::as_text")]
@@ -129,7 +131,7 @@ impl Default for Prefs {
             dark: true,
             recent: Vec::new(),
             speed: Speed::PerSecond(10.0),
-            register_format: Format::Signed,
+            register_formats: BTreeMap::new(),
             only_used_registers: true,
             layout: None,
             known_panes: layout::Pane::common_titles(),
@@ -277,7 +279,6 @@ impl ServoscopeApp {
         let m = self.debugger.machine();
         let name = |loc: Loc| m.info(loc).map(|i| i.name);
         ViewSettings {
-            register_format: self.registers.format,
             formats: self
                 .registers
                 .overrides
@@ -287,12 +288,15 @@ impl ServoscopeApp {
             only_used_registers: self.registers.only_used,
             selected: self.registers.selected.and_then(name),
             speed: self.debugger.speed(),
+            ..ViewSettings::default()
         }
+        .with_column(self.registers.column())
     }
 
     fn apply_view_settings(&mut self, view: &ViewSettings) {
         let m = self.debugger.machine();
-        self.registers.format = view.register_format;
+        self.registers.dialect = self.debugger.dialect().name;
+        self.registers.set_column(view.column());
         self.registers.overrides = view
             .formats
             .iter()
@@ -314,6 +318,7 @@ impl ServoscopeApp {
         if self.panels_for != dialect.name {
             self.panels = (dialect.panels)();
             self.panels_for = dialect.name;
+            self.registers.dialect = dialect.name;
             let titles: Vec<&str> = self.panels.iter().map(|p| p.title()).collect();
             self.layout.sync_dialect_panels(&titles);
             self.extra_inputs.clear();
@@ -738,7 +743,8 @@ impl ServoscopeApp {
                 }
             }
             Command::AddWatch(text) => {
-                self.debugger.add_watch(text, Format::Signed);
+                let format = self.debugger.watch_format_for(&text);
+                self.debugger.add_watch(text, format);
                 self.layout.set_shown(&layout::Pane::Watches, true);
                 self.layout.focus(&layout::Pane::Watches);
             }
@@ -904,7 +910,9 @@ impl ServoscopeApp {
         for c in commands.into_iter().chain(keyed) {
             self.apply(&ctx, c);
         }
-        self.prefs.register_format = self.registers.format;
+        self.prefs
+            .register_formats
+            .clone_from(&self.registers.every);
         self.prefs.only_used_registers = self.registers.only_used;
 
         let title = self.window_title();

@@ -198,7 +198,10 @@ fn readout(trace: &Trace, channels: &[Channel], tick: u64, micros: f64) -> Optio
     let values: Vec<String> = channels
         .iter()
         .enumerate()
-        .map(|(i, c)| format!("{} {}", c.label, s.get(i)))
+        .map(|(i, c)| match c.reading_name() {
+            Some(reading) => format!("{} {} ({reading})", c.label, c.value_text(s.get(i))),
+            None => format!("{} {}", c.label, s.get(i)),
+        })
         .collect();
     Some(format!(
         "tick {tick} ({:.3} ms): {}",
@@ -388,7 +391,10 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut PlotView, out: &m
         let last = row + 1 == groups.len();
         let axis_label = members
             .iter()
-            .map(|(_, c)| c.name.as_str())
+            .map(|(_, c)| match c.reading_name() {
+                Some(reading) => format!("{} ({reading})", c.name),
+                None => c.name.clone(),
+            })
             .collect::<Vec<_>>()
             .join(", ");
         let mut plot = Plot::new(("plot", group))
@@ -458,7 +464,15 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut PlotView, out: &m
             let lines: Vec<(usize, &Channel, Vec<[f64; 2]>)> = members
                 .iter()
                 .map(|&(index, channel)| {
-                    (index, channel, view.points(trace, index, x0, x1, columns))
+                    let mut points = view.points(trace, index, x0, x1, columns);
+                    // Decimated on the stored integers (BCD and Q16.16 keep their order), drawn
+                    // in the location's reading.
+                    if channel.reading_name().is_some() {
+                        for p in &mut points {
+                            p[1] = channel.plotted(p[1] as i64);
+                        }
+                    }
+                    (index, channel, points)
                 })
                 .collect();
             let markers = if row == 0 {
@@ -487,7 +501,7 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut PlotView, out: &m
             });
             for (index, channel, points) in lines {
                 plot_ui.line(
-                    Line::new(channel.label.as_str(), PlotPoints::from(points))
+                    Line::new(channel.titled(), PlotPoints::from(points))
                         .color(colour(&p, index))
                         .width(1.5),
                 );

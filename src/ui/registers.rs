@@ -14,7 +14,12 @@ use crate::machine::value::{self, Format, sign_extend};
 use crate::machine::{Loc, LocInfo, MachineView, SpaceKind};
 
 pub struct RegisterView {
-    pub format: Format,
+    /// The Value column's format for every location, per dialect (by name), where the user
+    /// chose one; in a dialect not listed each location shows in its own reading (DL205 words
+    /// in BCD, a TML `fixed` in Q16.16, an OpenNet D word by its data type).
+    pub every: BTreeMap<String, Format>,
+    /// The dialect on show: whose entry of `every` applies.
+    pub dialect: &'static str,
     /// Formats chosen for single locations (right-click a row).
     pub overrides: BTreeMap<Loc, Format>,
     pub only_used: bool,
@@ -24,43 +29,58 @@ pub struct RegisterView {
     /// The value `edit_text` was last filled from: when the location changes (a step, a step
     /// back, a click on the plot) the field follows, unless the user is typing in it.
     edit_shown: Option<u64>,
+    /// The format `edit_text` was filled in: a new format refills it.
+    edit_format: Option<Format>,
 }
+
+/// The format list's entry for "each location in its own reading".
+pub const OWN_READING: &str = "each its own";
 
 impl RegisterView {
     pub fn new(prefs: &Prefs) -> Self {
         RegisterView {
-            format: prefs.register_format,
+            every: prefs.register_formats.clone(),
+            dialect: "",
             overrides: BTreeMap::new(),
             only_used: prefs.only_used_registers,
             selected: None,
             edit_text: String::new(),
             edit_error: None,
             edit_shown: None,
+            edit_format: None,
         }
     }
 
-    /// The format a location is shown in: its own, else its dialect's reading, else the view's.
+    /// The format chosen for every location of the dialect on show, if one was.
+    pub fn column(&self) -> Option<Format> {
+        self.every.get(self.dialect).copied()
+    }
+
+    pub fn set_column(&mut self, format: Option<Format>) {
+        match format {
+            Some(f) => self.every.insert(self.dialect.to_string(), f),
+            None => self.every.remove(self.dialect),
+        };
+    }
+
+    /// The format a location is shown in: its own choice, else the one chosen for every
+    /// location, else its dialect's reading.
     pub fn format_of(&self, loc: Loc, info: &LocInfo) -> Format {
         self.overrides
             .get(&loc)
             .copied()
-            .or(info.format.filter(|_| self.format == Format::Signed))
-            .unwrap_or(self.format)
+            .or(self.column())
+            .unwrap_or_else(|| info.reading())
     }
 
-    pub fn select(&mut self, loc: Loc, m: &dyn MachineView) {
+    pub fn select(&mut self, loc: Loc, _m: &dyn MachineView) {
         if self.selected != Some(loc) {
             self.selected = Some(loc);
-            self.edit_text = signed_text(m, loc);
+            // The bit grid fills the field in the location's format on its next frame.
+            self.edit_shown = None;
             self.edit_error = None;
-            self.edit_shown = Some(m.read(loc));
         }
     }
-}
-
-fn signed_text(m: &dyn MachineView, loc: Loc) -> String {
-    let width = m.info(loc).map_or(32, |i| i.width);
-    Format::Signed.show(m.read(loc), width)
 }
 
 /// Locations shown in the table: those the program mentions (plus the dedicated ones that have
@@ -104,13 +124,23 @@ pub fn show(
     out: &mut Vec<Command>,
 ) {
     ui.horizontal_wrapped(|ui| {
+        view.dialect = debugger.dialect().name;
+        let mut column = view.column();
         egui::ComboBox::new("register_format", "Format")
-            .selected_text(view.format.name())
+            .selected_text(column.map_or(OWN_READING, Format::name))
             .show_ui(ui, |ui| {
+                ui.selectable_value(&mut column, None, OWN_READING)
+                    .on_hover_text(
+                        "Each location in its dialect's reading: DL205 words in BCD, a TML \
+                         fixed in Q16.16, an OpenNet D word by its data type",
+                    );
                 for f in Format::ALL {
-                    ui.selectable_value(&mut view.format, f, f.name());
+                    ui.selectable_value(&mut column, Some(f), f.name());
                 }
             });
+        if column != view.column() {
+            view.set_column(column);
+        }
         ui.checkbox(&mut view.only_used, "Only what this program uses");
     });
     ui.separator();
@@ -249,13 +279,18 @@ fn bit_grid(
     };
     let raw = m.read(loc);
     let width = info.width;
+    view.dialect = debugger.dialect().name;
+    let format = view.format_of(loc, &info);
     let field = egui::Id::unique("location_value_field");
     let typing = ui.memory(|m| m.has_focus(field));
-    if !typing && view.edit_error.is_none() && view.edit_shown != Some(raw) {
-        // The value changed under the field (or it was just selected): show the current one,
-        // so Set never writes a stale value back.
-        view.edit_text = Format::Signed.show(raw, width);
+    let format_changed = view.edit_format != Some(format);
+    if format_changed || !typing && view.edit_error.is_none() && view.edit_shown != Some(raw) {
+        // The value changed under the field (or it was just selected, or shown in another
+        // format): show the current one, so Set never writes a stale value back.
+        view.edit_text = editable_text(raw, width, format);
         view.edit_shown = Some(raw);
+        view.edit_format = Some(format);
+        view.edit_error = None;
     }
     ui.horizontal(|ui| {
         ui.heading(&info.name)
@@ -380,20 +415,24 @@ fn bit_grid(
                 ui.end_row();
             }
         });
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         let label = ui.label(format!("Value of {}", info.name));
+        ui.label(RichText::new(format!("in {}", format.name())).color(p.dim));
         let edit = ui
             .add(
                 egui::TextEdit::singleline(&mut view.edit_text)
                     .id(field)
                     .desired_width(150.0)
-                    .hint_text("42, 0x2A, 0b101, bcd(12), q16(1.5)"),
+                    .hint_text(format!("in {}, or 0x2A, bcd(12), q16(1.5)", format.name())),
             )
             .labelled_by(label.id);
+        if edit.changed() {
+            view.edit_error = None;
+        }
         let entered = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
         if ui.button("Set").clicked() || entered {
-            match value::parse_value(&view.edit_text, width) {
-                Ok(v) => {
+            match value::parse_in(&view.edit_text, width, format) {
+                Ok((v, _)) => {
                     out.push(Command::SetValue(loc, v));
                     view.edit_error = None;
                 }
@@ -401,8 +440,30 @@ fn bit_grid(
             }
         }
     });
+    // Say how the text will be read before Set, so a BCD field never stores binary unseen.
+    let untouched = view.edit_text.trim() == editable_text(raw, width, format);
+    let preview = match value::parse_in(&view.edit_text, width, format) {
+        Ok((v, reading)) if !untouched => Some(format!(
+            "Set stores {}: {}",
+            value::hex(v, width),
+            reading.describe()
+        )),
+        _ => None,
+    };
     if let Some(error) = &view.edit_error {
         ui.label(RichText::new(format!("Not changed: {error}")).color(p.error));
+    } else if let Some(text) = preview {
+        ui.label(RichText::new(text).small().color(p.dim));
+    }
+}
+
+/// `raw` as the value field shows it: in `format`, in a form [`value::parse_in`] reads back to
+/// the same bits (a Q16.16 value with every digit, not the six shown in the table).
+fn editable_text(raw: u64, width: u8, format: Format) -> String {
+    match format {
+        Format::Q16 if width <= 32 => value::q16_exact(sign_extend(raw, width)),
+        Format::Bcd if !value::is_bcd(raw) => value::hex(raw, width),
+        f => f.show(raw, width),
     }
 }
 

@@ -13,8 +13,13 @@ pub struct WatchesView {
     pub new_expr: String,
 }
 
-/// A watch's value in `format`: 32 bits wide when it fits, else 64.
-pub fn shown(v: i64, format: Format) -> String {
+/// A watch's value in `format`. A watch of one location reads its bits at the location's width,
+/// so "signed" means what it means in the register view; any other expression is 32 bits wide
+/// when its value fits, else 64.
+pub fn shown(v: i64, format: Format, location_width: Option<u8>) -> String {
+    if let Some(width) = location_width {
+        return format.show(v as u64, width);
+    }
     let width = if i32::try_from(v).is_ok() || u32::try_from(v).is_ok() {
         32
     } else {
@@ -59,15 +64,9 @@ pub fn show(
         .id_salt("watch_list")
         .auto_shrink([false, false])
         .show(ui, |ui| {
-            egui::Grid::new("watches")
-                .num_columns(4)
-                .striped(true)
-                .show(ui, |ui| {
-                    for (i, w) in debugger.watches().iter().enumerate() {
-                        watch_row(ui, debugger, i, w, out);
-                        ui.end_row();
-                    }
-                });
+            for (i, w) in debugger.watches().iter().enumerate() {
+                watch_row(ui, debugger, i, w, out);
+            }
         });
 }
 
@@ -75,39 +74,33 @@ fn watch_row(ui: &mut egui::Ui, debugger: &Debugger, i: usize, w: &Watch, out: &
     let p = palette(ui.visuals().dark_mode);
     let n = i + 1;
     let mut edited = w.clone();
-    ui.add(
-        egui::TextEdit::singleline(&mut edited.expr)
-            .desired_width(150.0)
-            .min_size(egui::vec2(150.0, 0.0)),
-    )
-    .widget_info(|| egui::WidgetInfo::labeled(egui::Role::TextInput, true, format!("Watch {n}")));
-    egui::ComboBox::new(("watch_format", i), "")
-        .selected_text(w.format.name())
-        .show_ui(ui, |ui| {
-            for f in Format::ALL {
-                ui.selectable_value(&mut edited.format, f, f.name());
-            }
-        })
-        .response
+    let mut error = None;
+    // The buttons come before the value, and an error goes under the row, so a long one never
+    // pushes them out of view.
+    ui.horizontal(|ui| {
+        ui.add(
+            egui::TextEdit::singleline(&mut edited.expr)
+                .desired_width(150.0)
+                .min_size(egui::vec2(150.0, 0.0)),
+        )
         .widget_info(|| {
-            egui::WidgetInfo::labeled(egui::Role::ComboBox, true, format!("Format of watch {n}"))
+            egui::WidgetInfo::labeled(egui::Role::TextInput, true, format!("Watch {n}"))
         });
-    match debugger.watch_value(i) {
-        Ok(v) => {
-            let text = shown(v, w.format);
-            ui.label(RichText::new(&text).monospace()).widget_info(|| {
+        egui::ComboBox::new(("watch_format", i), "")
+            .selected_text(w.format.name())
+            .show_ui(ui, |ui| {
+                for f in Format::ALL {
+                    ui.selectable_value(&mut edited.format, f, f.name());
+                }
+            })
+            .response
+            .widget_info(|| {
                 egui::WidgetInfo::labeled(
-                    egui::Role::Label,
+                    egui::Role::ComboBox,
                     true,
-                    format!("Value of watch {n}: {text}"),
+                    format!("Format of watch {n}"),
                 )
             });
-        }
-        Err(e) => {
-            ui.colored_label(p.error, e.to_string());
-        }
-    }
-    ui.horizontal(|ui| {
         let plotted = debugger.channels().iter().any(|c| c.name == w.expr);
         let plot = ui
             .add_enabled(!plotted, egui::Button::new("Plot").small())
@@ -125,7 +118,27 @@ fn watch_row(ui: &mut egui::Ui, debugger: &Debugger, i: usize, w: &Watch, out: &
         if delete.clicked() {
             out.push(Command::RemoveWatch(i));
         }
+        match debugger.watch_value(i) {
+            Ok(v) => {
+                let text = shown(v, w.format, debugger.watch_width(i));
+                ui.label(RichText::new(&text).monospace()).widget_info(|| {
+                    egui::WidgetInfo::labeled(
+                        egui::Role::Label,
+                        true,
+                        format!("Value of watch {n}: {text}"),
+                    )
+                });
+            }
+            Err(e) => error = Some(e.to_string()),
+        }
     });
+    if let Some(e) = error {
+        ui.add(egui::Label::new(RichText::new(e).color(p.error)).wrap())
+            .widget_info(|| {
+                egui::WidgetInfo::labeled(egui::Role::Label, true, format!("Error of watch {n}"))
+            });
+    }
+    ui.separator();
     if edited != *w {
         out.push(Command::UpdateWatch(i, edited));
     }

@@ -96,6 +96,7 @@ pub fn channel_named(m: &dyn MachineView, name: &str) -> servoscope::debugger::t
         label: name.to_string(),
         width: info.width,
         signed: info.signed,
+        reading: info.reading(),
         group: 0,
         expr: None,
     }

@@ -167,19 +167,19 @@ impl MachineView for Dl205 {
         match loc.space {
             ACC if i == 0 => Some(LocInfo {
                 description: "accumulator",
-                format: Some(Format::Hex),
+                format: Some(Format::Bcd),
                 editable: false,
                 ..LocInfo::word("ACC".into(), 32, false)
             }),
             ACC if (i as usize) <= LEVELS => Some(LocInfo {
                 description: "accumulator stack level",
-                format: Some(Format::Hex),
+                format: Some(Format::Bcd),
                 editable: false,
                 ..LocInfo::word(format!("L{i}"), 32, false)
             }),
             V if (i as usize) < V_WORDS => Some(LocInfo {
                 description: "V-memory word",
-                format: Some(Format::Hex),
+                format: Some(Format::Bcd),
                 ..LocInfo::word(format!("V{i:o}"), 16, false)
             }),
             X if i < Kind::X.count() => Some(bit(format!("X{i:o}"), "input", true)),

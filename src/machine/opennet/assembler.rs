@@ -207,6 +207,10 @@ fn word(t: &Token, ty: Ty, dest: bool, words: u32, rep: u32, program: &mut Progr
                     return err(t.col, len, format!("{} with its {span} word(s) runs past D7999", t.text));
                 }
                 program.used_regs.extend(n..n + span);
+                if ty.signed() {
+                    // Each item's first word: an I word, or the upper (sign) word of an L pair.
+                    program.signed_regs.extend((n..n + span).step_by(words.max(1) as usize));
+                }
                 Ok(Word::Reg { n, repeat })
             }
             'I' | 'Q' | 'M' => {
@@ -548,6 +552,8 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
     }
     program.used_regs.sort_unstable();
     program.used_regs.dedup();
+    program.signed_regs.sort_unstable();
+    program.signed_regs.dedup();
     program.used_bits.sort_unstable();
     program.used_bits.dedup();
     program.flat = super::fast::flatten(&program.instrs);

@@ -193,6 +193,9 @@ pub struct Program {
     /// Number of SOTU/SOTD edge memories.
     pub edges: u32,
     pub used_regs: Vec<u32>,
+    /// Registers the program reads as signed (data type I, or the upper word of an L pair):
+    /// the register view shows them signed, the others unsigned (spec §3).
+    pub signed_regs: Vec<u32>,
     pub used_bits: Vec<(Area, u32)>,
     /// The fast loop's form of `instrs` ([`super::fast`]).
     pub flat: Vec<super::fast::Flat>,

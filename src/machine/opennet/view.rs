@@ -6,7 +6,7 @@ use std::fmt::Write;
 use super::program::{Area, SPECIAL, point_name};
 use super::{M8004, OpenNet};
 use crate::machine::{
-    Loc, LocInfo, Machine, MachineView, Pos, RunState, SpaceInfo, SpaceKind,
+    Format, Loc, LocInfo, Machine, MachineView, Pos, RunState, SpaceInfo, SpaceKind,
     StopReason, WriteError,
 };
 
@@ -167,10 +167,20 @@ impl MachineView for OpenNet {
     fn info(&self, loc: Loc) -> Option<LocInfo> {
         let i = loc.index;
         match loc.space {
-            D if (i as usize) < super::REGISTERS => Some(LocInfo {
-                description: "data register (16 bits)",
-                ..LocInfo::word(format!("D{i}"), 16, false)
-            }),
+            D if (i as usize) < super::REGISTERS => {
+                let signed = self.program.signed_regs.binary_search(&i).is_ok();
+                Some(LocInfo {
+                    description: if signed {
+                        "data register (16 bits), read as signed (type I or L)"
+                    } else {
+                        "data register (16 bits)"
+                    },
+                    // The stored pattern stays unsigned for the trace, the log and conditions
+                    // (spec §2); only the view's reading follows the type.
+                    format: Some(if signed { Format::Signed } else { Format::Unsigned }),
+                    ..LocInfo::word(format!("D{i}"), 16, false)
+                })
+            }
             SPECIAL_SPACE => SPECIAL.get(i as usize).map(|&n| LocInfo {
                 name: format!("M{n}"),
                 alias: None,
