@@ -240,3 +240,47 @@ fn hovering_a_relay_or_an_input_says_on_or_off_only() {
     let q0 = hover_value(d.machine(), "Q0").expect("an output");
     assert!(q0.lines().any(|l| l == "OFF"), "{q0}");
 }
+
+/// Issue #22 item 5: a DEF constant shows its value on hover and may be used in watches and
+/// conditions (`next * gain >> 16` said "no location named gain").
+#[test]
+fn a_def_constant_is_shown_on_hover_and_usable_in_watches_and_conditions() {
+    let source = include_str!("../assets/examples/fixed_point.qsl");
+    let mut d = servoscope::debugger::Debugger::new("fixed_point.qsl", source);
+    assert!(d.diagnostics().is_empty());
+    // q16(0.0254) = round(0.0254 × 65536) = 1665 (the example's own comment).
+    let hover = hover_value(d.machine(), "mm_per_count").expect("a constant");
+    for expected in ["mm_per_count", "1665", "0x0000_0681", "Q16.16  0.025406"] {
+        assert!(hover.contains(expected), "{expected} in {hover}");
+    }
+    d.step_command();
+    assert_eq!(
+        d.evaluate("counts * mm_per_count >> 16"),
+        Ok((40000 * 1665) >> 16)
+    );
+    assert_eq!(d.evaluate("mm_per_count.0"), Ok(1), "1665 is odd");
+    let w = d.add_watch(
+        "counts * mm_per_count >> 16",
+        servoscope::machine::Format::Signed,
+    );
+    assert_eq!(d.watch_value(w), Ok(1016));
+    // A condition with the constant: false on line 16 (before the CLD), true on line 22.
+    for line in [16, 22] {
+        d.add_breakpoint(servoscope::debugger::Breakpoint {
+            condition: "millimetres == counts * mm_per_count >> 16".into(),
+            ..servoscope::debugger::Breakpoint::line(line)
+        });
+    }
+    d.set_speed(servoscope::debugger::Speed::Unlimited);
+    d.run();
+    while d.advance(0.016, std::time::Duration::from_millis(200)) {}
+    assert_eq!(
+        d.machine().pc_line(),
+        Some(22),
+        "stopped where the condition holds"
+    );
+    assert!(
+        d.evaluate("no_such_name").is_err(),
+        "other names are still unknown"
+    );
+}

@@ -110,6 +110,7 @@ impl Expr {
             nodes: Vec::new(),
             depth: 0,
             m: &resolve_in(m),
+            constants: m.program_constants(),
         };
         if tokens.is_empty() {
             return Err(ExprError {
@@ -320,6 +321,8 @@ struct Parser<'a> {
     nodes: Vec<Node>,
     depth: usize,
     m: &'a Resolve<'a>,
+    /// The program's named constants (they are values, not locations).
+    constants: Vec<(String, i64)>,
 }
 
 /// Binary operators by binding power (higher binds tighter).
@@ -415,6 +418,19 @@ impl Parser<'_> {
             Tok::Num(v) => self.nodes.push(Node::Const(*v)),
             Tok::Name(name) => {
                 let Some((loc, width, signed)) = (self.m)(name) else {
+                    // A constant the program names (DEF names are case-sensitive).
+                    if let Some(&(_, value)) = self.constants.iter().find(|(n, _)| n == name) {
+                        if let Some(Token {
+                            tok: Tok::Bit(bit), ..
+                        }) = self.tokens.get(self.at)
+                        {
+                            self.at += 1;
+                            self.nodes.push(Node::Const(value >> (*bit).min(63) & 1));
+                        } else {
+                            self.nodes.push(Node::Const(value));
+                        }
+                        return Ok(());
+                    }
                     self.at -= 1;
                     return self.error(format!("there is no location named '{name}'"));
                 };

@@ -260,6 +260,11 @@ pub trait MachineView: Send + 'static {
     fn program_names(&self) -> Vec<(String, Loc)> {
         Vec::new()
     }
+    /// Constants the program names (a SilverLode `DEF gain = q16(0.0254)`), with their values:
+    /// watches and conditions may use them, hovering one shows its value.
+    fn program_constants(&self) -> Vec<(String, i64)> {
+        Vec::new()
+    }
 
     /// 1-based source line of the instruction the program counter points at.
     fn pc_line(&self) -> Option<usize>;

@@ -314,6 +314,19 @@ pub fn hover_value(m: &dyn crate::machine::MachineView, word: &str) -> Option<St
         lines.push("Right-click: who wrote it, break on it, watch it".to_string());
         return Some(lines.join("\n"));
     }
+    if let Some((name, value)) = m.program_constants().into_iter().find(|(n, _)| n == word) {
+        // A constant is a 32-bit data value: every reading of it, like a register's.
+        let raw = value as u64 & 0xFFFF_FFFF;
+        let mut lines = vec![format!(
+            "{name} (a constant; watches and conditions may use it)"
+        )];
+        lines.extend(
+            Format::ALL
+                .iter()
+                .map(|f| format!("{:>8}  {}", f.name(), f.show(raw, 32))),
+        );
+        return Some(lines.join("\n"));
+    }
     let lower = word.to_ascii_lowercase();
     if lower.starts_with("q16(") || lower.starts_with("bcd(") {
         let raw = parse_value(word, 32).ok()?;

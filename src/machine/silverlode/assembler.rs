@@ -52,6 +52,7 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
             labels: asm.label_list,
             used_registers: used,
             register_names: asm.register_names,
+            constants: asm.constants,
         })
     } else {
         asm.errors.sort_by_key(|d| (d.line, d.col));
@@ -185,6 +186,7 @@ struct Assembler {
     label_list: Vec<(String, u32)>,
     defs: HashMap<String, (DefValue, usize)>,
     register_names: Vec<(String, u8)>,
+    constants: Vec<(String, i64)>,
     /// "Did you mean" among the program's own names, bounded per file.
     suggester: Suggester,
     /// DEF names and the line that defines them, to explain "used before definition".
@@ -307,8 +309,9 @@ impl Assembler {
         };
         match parsed {
             Ok(v) => {
-                if let DefValue::Register(r) = v {
-                    self.register_names.push((name.text.to_string(), r));
+                match v {
+                    DefValue::Register(r) => self.register_names.push((name.text.to_string(), r)),
+                    DefValue::Number(n) => self.constants.push((name.text.to_string(), n)),
                 }
                 self.defs.insert(name.text.to_string(), (v, line));
             }

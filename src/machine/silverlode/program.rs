@@ -265,6 +265,8 @@ pub struct Program {
     pub used_registers: Vec<u8>,
     /// DEF names that name registers, in source order.
     pub register_names: Vec<(String, u8)>,
+    /// DEFs of numbers, in source order.
+    pub constants: Vec<(String, i64)>,
     /// `instrs` pre-decoded for the fast loop, one [`Op`] per command plus an end marker.
     pub flat: Vec<Op>,
     /// Every register a command of `flat` other than `Full` may write.
@@ -428,6 +430,7 @@ impl Program {
             labels: Vec::new(),
             used_registers: Vec::new(),
             register_names: Vec::new(),
+            constants: Vec::new(),
             flat: vec![Op::Full],
             flat_writes: crate::machine::WriteSet::default(),
         })

@@ -364,6 +364,9 @@ impl MachineView for SilverLode {
             .map(|(n, r)| (n.clone(), reg(u32::from(*r))))
             .collect()
     }
+    fn program_constants(&self) -> Vec<(String, i64)> {
+        self.program().constants.clone()
+    }
     fn pc_line(&self) -> Option<usize> {
         self.line_of(self.pc())
     }
