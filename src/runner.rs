@@ -316,8 +316,9 @@ pub fn mnemonic(line: &str) -> &str {
     &code[..end]
 }
 
-/// One `--trace` line: the executed instruction's start position, its line and mnemonic, and
-/// the locations it wrote with their new values.
+/// One `--trace` line: the executed instruction's start position, its line and mnemonic, the
+/// locations it wrote with their new values (what the instruction wrote, flags included, not
+/// what a motion model drove in the same tick), and its explanation.
 fn trace_line(m: &dyn MachineView, n: u64, started: Pos, source: &[&str]) -> String {
     let line = m.last_line();
     let word = line
@@ -331,7 +332,7 @@ fn trace_line(m: &dyn MachineView, n: u64, started: Pos, source: &[&str]) -> Str
         json_string(word),
     );
     let mut first = true;
-    for loc in m.last_written() {
+    for loc in m.instruction_written() {
         let Some(info) = m.info(loc) else { continue };
         if !std::mem::take(&mut first) {
             out.push(',');
@@ -343,7 +344,10 @@ fn trace_line(m: &dyn MachineView, n: u64, started: Pos, source: &[&str]) -> Str
             crate::machine::value_of(m, loc)
         );
     }
-    out.push_str("}}\n");
+    out.push_str("},\"explain\":");
+    // The status bar's words for the step, overflow and carry notes included.
+    out.push_str(&json_string(&m.explain_last().unwrap_or_default()));
+    out.push_str("}\n");
     out
 }
 

@@ -361,7 +361,12 @@ fn the_execution_log_lists_steps_newest_last_and_filters() {
     let line5 = d.execution_log(LogFilter::Line(5), 1000, u64::MAX);
     assert_eq!(line5.rows.len(), 10);
     assert!(line5.rows.iter().all(|r| r.line == 5));
-    assert_eq!(line5.rows[0].written, [("R11".to_string(), 9)]);
+    // CLC DEC wrote R11 and the ISW flags (spec §4: 9 is positive, so bit 2 and not 1 or 3).
+    let written = &line5.rows[0].written;
+    assert_eq!(written[0], ("R11".to_string(), 9));
+    assert_eq!(written.len(), 2);
+    assert_eq!(written[1].0, "ISW");
+    assert_eq!(written[1].1 & 0b1110, 0b0100);
     let r13 = d.find("R13").expect("R13");
     let writes = d.execution_log(LogFilter::Writes(r13), 1000, u64::MAX);
     assert_eq!(

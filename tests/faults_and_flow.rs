@@ -330,7 +330,11 @@ fn explanations_show_operands_and_values() {
     m.step_command(1);
     assert_eq!(
         m.explain_last().as_deref(),
-        Some("R25 = (R26 × 16668865) >> 16 = (1000 × 16668865) >> 16 = 254346")
+        // The vendor's worked example: 254346.7 truncates to 254346; 0.694946 (of 2^-16
+        // steps: 45543 / 65536) is what the shift dropped.
+        Some(
+            "R25 = (R26 × 16668865) >> 16 = (1000 × 16668865) >> 16 = 254346 — 0.694946 dropped by the shift"
+        )
     );
     assert_eq!(m.written_by_last(), vec![25]);
     for _ in 0..4 {

@@ -69,7 +69,7 @@ fn row_of(m: &dyn MachineView) -> LogRow {
         line: m.last_line().unwrap_or(0),
         explanation: m.explain_last().unwrap_or_default(),
         written: m
-            .last_written()
+            .instruction_written()
             .into_iter()
             .filter_map(|loc| Some((m.info(loc)?.name, value_of(m, loc))))
             .collect(),

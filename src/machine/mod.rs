@@ -295,6 +295,12 @@ pub trait MachineView: Send + 'static {
         });
         out
     }
+    /// What the last instruction itself wrote, flags included, and nothing the machine drove
+    /// on its own in the same tick (a servo's motion registers): what the Log and the
+    /// runner's trace credit to the instruction.
+    fn instruction_written(&self) -> Vec<Loc> {
+        self.last_written()
+    }
     /// Each location the last executed instruction wrote (one may come twice): the one
     /// description of writes, asked at every instruction boundary while recording, so it
     /// builds no list.

@@ -384,6 +384,25 @@ pub fn parse_in(text: &str, width: u8, format: Format) -> Result<(u64, Reading),
     }
 }
 
+/// What an explanation adds when a stored result is not the exact one: `""` when it is, else
+/// `" — overflow: the exact result 2147483648 does not fit, it wrapped to -2147483648"`.
+pub fn wrap_note(exact: i128, stored: i64) -> String {
+    if exact == i128::from(stored) {
+        String::new()
+    } else {
+        format!(" — overflow: the exact result {exact} does not fit, it wrapped to {stored}")
+    }
+}
+
+/// `" — remainder 3 discarded"` when a division was not exact.
+pub fn remainder_note(remainder: i128) -> String {
+    if remainder == 0 {
+        String::new()
+    } else {
+        format!(" — remainder {remainder} discarded")
+    }
+}
+
 /// The decimal number BCD digits stand for (`0x9750` → 9750); a nibble over 9 counts as its
 /// value, so a non-BCD pattern still orders sensibly (callers mark it with [`is_bcd`]).
 pub fn bcd_decimal(value: u64) -> u64 {

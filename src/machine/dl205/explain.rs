@@ -17,6 +17,23 @@ fn stack_note(m: &Dl205) -> String {
     }
 }
 
+/// The carry, borrow and overflow relays the instruction turned on, by name and meaning:
+/// " — SP66 = 1: carry out of the low word".
+fn carry_note(m: &Dl205, op: super::program::Op, line: usize) -> String {
+    use super::program::sp::{SP64, SP65, SP66, SP67, SP73};
+    m.flags_written(op, line)
+        .iter()
+        .filter(|&&f| matches!(f, SP64 | SP65 | SP66 | SP67 | SP73) && m.sp[f])
+        .map(|&f| {
+            format!(
+                " — SP{:o} = 1: {}",
+                super::program::SPECIAL[f],
+                super::view::SP_DESCRIPTIONS[f]
+            )
+        })
+        .collect()
+}
+
 pub fn explain(m: &Dl205) -> Option<String> {
     let ins = m.program.instrs.get(m.last? as usize)?;
     let name = ins.mnemonic.as_str();
@@ -61,10 +78,11 @@ pub fn explain(m: &Dl205) -> Option<String> {
                 _ => text.split_whitespace().nth(1).unwrap_or("").to_string(),
             };
             format!(
-                "{name}: ACC {a:08X} {sign} {operand} = {:08X}{}{}",
+                "{name}: ACC {a:08X} {sign} {operand} = {:08X}{}{}{}",
                 m.acc,
                 if bcd { " (BCD)" } else { "" },
-                stack_note(m)
+                stack_note(m),
+                carry_note(m, ins.op, ins.line)
             )
         }
         // These leave ACC and the stack alone: say what they wrote.
@@ -86,6 +104,9 @@ pub fn explain(m: &Dl205) -> Option<String> {
                 format!("{} … {}", bit_name(from), bit_name(to))
             };
             format!("{text}: {range} = {}", u8::from(on))
+        }
+        Op::ToBin if m.flags_written(ins.op, ins.line) == [super::program::sp::SP75] => {
+            format!("{text}: ACC {a:08X} has a non-BCD digit: SP75 = 1, ACC unchanged")
         }
         _ => format!("{text}: ACC = {:08X}{}", m.acc, stack_note(m)),
     })

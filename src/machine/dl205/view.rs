@@ -17,7 +17,7 @@ pub const Y: u8 = 3;
 pub const C: u8 = 4;
 pub const SP: u8 = 5;
 
-const SP_DESCRIPTIONS: [&str; 11] = [
+pub(super) const SP_DESCRIPTIONS: [&str; 11] = [
     "on during the first scan",
     "always on",
     "divide by zero",
@@ -76,6 +76,32 @@ pub fn parse_name(name: &str) -> Option<Loc> {
 }
 
 impl Dl205 {
+    /// The special relays an instruction that ran wrote, set or cleared (spec §6.3, §6.4): a
+    /// math instruction that met a non-BCD digit or a zero divisor wrote only SP75 or SP53.
+    pub fn flags_written(&self, op: super::program::Op, line: usize) -> &'static [usize] {
+        use super::program::{Math, Op, sp::*};
+        let stopped_by = |flag: usize, at: Option<usize>| self.sp[flag] && at == Some(line);
+        let untouched = self.acc == self.before.0 && self.moved == super::StackMove::None;
+        match op {
+            Op::Bcd(..) | Op::ToBin if untouched && stopped_by(SP75, self.sp75_line) => &[SP75],
+            Op::Bcd(..) | Op::Binary(..) if untouched && stopped_by(SP53, self.sp53_line) => {
+                &[SP53]
+            }
+            Op::Bcd(Math::Add, _) => &[SP63, SP66, SP67, SP70, SP75],
+            Op::Bcd(Math::Sub, _) => &[SP63, SP64, SP65, SP70, SP75],
+            Op::Bcd(Math::Mul, _) => &[SP63, SP70, SP75],
+            Op::Bcd(Math::Div, _) => &[SP53, SP63, SP70, SP75],
+            Op::Binary(Math::Add, _) => &[SP63, SP66, SP67, SP70, SP73],
+            Op::Binary(Math::Sub, _) => &[SP63, SP64, SP65, SP70],
+            Op::Binary(Math::Mul, _) => &[SP63, SP70],
+            Op::Binary(Math::Div, _) => &[SP53, SP63, SP70],
+            Op::ToBin => &[SP63, SP70, SP75],
+            Op::ToBcd | Op::LogicD(..) | Op::LogicS(..) => &[SP63, SP70],
+            Op::IncB(_) | Op::DecB(_) | Op::LogicV(..) => &[SP63],
+            _ => &[],
+        }
+    }
+
     /// Each location the last executed instruction wrote (one may come twice).
     #[inline]
     fn each_written<F: FnMut(Loc)>(&self, mut f: F) {
@@ -83,9 +109,21 @@ impl Dl205 {
         let Some(ins) = self.last.and_then(|i| self.program.instrs.get(i as usize)) else {
             return;
         };
-        if self.acc != self.before.0 || self.moved != super::StackMove::None {
+        if self.acc != self.before.0 {
             f(Loc::new(ACC, 0));
-            (1..=LEVELS as u32).for_each(|i| f(Loc::new(ACC, i)));
+        }
+        // The levels a push or pop shifted (those holding values), or the one overwritten.
+        let levels = match self.moved {
+            super::StackMove::None => 0,
+            super::StackMove::Push { .. } => u32::from(self.depth),
+            super::StackMove::Pop { .. } => u32::from(self.depth) + 1,
+            super::StackMove::Overwrite { .. } => 1,
+        };
+        (1..=levels.min(LEVELS as u32)).for_each(|i| f(Loc::new(ACC, i)));
+        if self.last_ran {
+            for &flag in self.flags_written(ins.op, ins.line) {
+                f(Loc::new(SP, flag as u32));
+            }
         }
         match ins.op {
             Op::OutV(a) | Op::IncB(a) | Op::DecB(a) if self.last_ran => f(Loc::new(V, a)),

@@ -132,7 +132,16 @@ pub fn explain(m: &OpenNet) -> Option<String> {
                 })
                 .collect();
             let flag = if matches!(op, Arith::Add | Arith::Sub) {
-                format!(", M8003 = {}", u8::from(m.special[super::M8003]))
+                let carry = m.special[super::M8003];
+                format!(
+                    ", M8003 = {}{}",
+                    u8::from(carry),
+                    if carry {
+                        " (carry/borrow: a result did not fit its type)"
+                    } else {
+                        ""
+                    }
+                )
             } else {
                 String::new()
             };
@@ -144,7 +153,17 @@ pub fn explain(m: &OpenNet) -> Option<String> {
             } else {
                 i64::from((u32::from(m.d[reg as usize]) << 16) | u32::from(m.d[reg as usize + 1]))
             };
-            format!("{text}: D{reg} {} 1 = {v} (wraps, M8003 unchanged)", if up { "+" } else { "−" })
+            let max = if ty.words() == 1 { 0xFFFF } else { 0xFFFF_FFFF };
+            let wrapped = if up { v == 0 } else { v == max };
+            format!(
+                "{text}: D{reg} {} 1 = {v}{}",
+                if up { "+" } else { "−" },
+                if wrapped {
+                    " — wrapped past the type's range (M8003 unchanged)"
+                } else {
+                    ""
+                }
+            )
         }
     })
 }

@@ -9,6 +9,7 @@ fn hex(v: i32) -> String {
 }
 
 use super::{RawQueue, hi, lo, sx16};
+use crate::machine::value::{q16, remainder_note, wrap_note};
 
 pub fn explain(m: &SilverLode) -> Option<String> {
     let last = m.s.last;
@@ -126,6 +127,39 @@ pub fn explain(m: &SilverLode) -> Option<String> {
 }
 
 fn clc(op: ClcOp, reg: u8, acc: i32, x: i32, res: i32, extra: i32) -> String {
+    format!("{}{}", clc_formula(op, reg, acc, x, res, extra), clc_note(op, acc, x, res))
+}
+
+/// What a CLC result lost: a wrap past 32 bits, a bit shifted out, a discarded remainder.
+fn clc_note(op: ClcOp, acc: i32, x: i32, res: i32) -> String {
+    let (acc, x128) = (i128::from(acc), i128::from(x));
+    let divisor = i128::from(sx16(lo(x)));
+    let res64 = i64::from(res);
+    match op {
+        ClcOp::Abs => wrap_note(x128.abs(), res64),
+        ClcOp::Neg => wrap_note(-x128, res64),
+        ClcOp::Inc => wrap_note(x128 + 1, res64),
+        ClcOp::Dec => wrap_note(x128 - 1, res64),
+        ClcOp::Add => wrap_note(acc + x128, res64),
+        ClcOp::AddHi => wrap_note(acc + i128::from(sx16(hi(x))), res64),
+        ClcOp::AddLo => wrap_note(acc + i128::from(sx16(lo(x))), res64),
+        ClcOp::Sub => wrap_note(acc - x128, res64),
+        ClcOp::SubRev => wrap_note(x128 - acc, res64),
+        ClcOp::MultS => wrap_note(acc * x128, res64),
+        ClcOp::MultU => wrap_note(
+            i128::from(acc as u32) * i128::from(x as u32),
+            i64::from(res as u32),
+        ),
+        ClcOp::Div if divisor != 0 => remainder_note(acc % divisor),
+        ClcOp::Shl if x < 0 => " — bit 31 (1) was shifted out".to_string(),
+        ClcOp::Shl if (x ^ res) < 0 => " — the sign changed: bit 30 moved into bit 31".to_string(),
+        ClcOp::ShrS | ClcOp::ShrU if x & 1 == 1 => " — bit 0 (1) was shifted out".to_string(),
+        ClcOp::SubTarget => wrap_note(acc - x128, res64),
+        _ => String::new(),
+    }
+}
+
+fn clc_formula(op: ClcOp, reg: u8, acc: i32, x: i32, res: i32, extra: i32) -> String {
     let r = format!("R{reg}");
     match op {
         ClcOp::Clear => format!("{r} = 0"),
@@ -226,6 +260,72 @@ fn clc(op: ClcOp, reg: u8, acc: i32, x: i32, res: i32, extra: i32) -> String {
 }
 
 fn ext(op: ExtOp, res: u8, reg1: u8, d_name: &str, outcome: Outcome, vals: [i32; 4]) -> String {
+    let text = ext_formula(op, res, reg1, d_name, outcome, vals);
+    if op.is_queue() {
+        return text;
+    }
+    format!("{text}{}", ext_note(op, vals))
+}
+
+/// What a CLD/CLX result lost: a wrap past 32 bits, the fraction a Q16.16 shift drops, a
+/// discarded remainder.
+fn ext_note(op: ExtOp, [a, d, v, _]: [i32; 4]) -> String {
+    let (a128, d128, v64) = (i128::from(a), i128::from(d), i64::from(v));
+    let exact_div = |n: i128, divisor: i128| {
+        if divisor == 0 {
+            String::new()
+        } else {
+            remainder_note(n % divisor)
+        }
+    };
+    match op {
+        ExtOp::Abs => wrap_note(a128.abs(), v64),
+        ExtOp::Neg => wrap_note(-a128, v64),
+        ExtOp::Add => wrap_note(a128 + d128, v64),
+        ExtOp::Sub => wrap_note(a128 - d128, v64),
+        ExtOp::SubRev => wrap_note(d128 - a128, v64),
+        ExtOp::AddHi => wrap_note(i128::from(sx16(hi(a))) + d128, v64),
+        ExtOp::AddLo => wrap_note(i128::from(sx16(lo(a))) + d128, v64),
+        ExtOp::MultS => wrap_note(a128 * d128, v64),
+        ExtOp::MultU => wrap_note(
+            i128::from(a as u32) * i128::from(d as u32),
+            i64::from(v as u32),
+        ),
+        ExtOp::MultS64Shr16 => {
+            let product = a128 * d128;
+            // The shift is arithmetic: it rounds toward minus infinity, dropping product mod 2^16.
+            let dropped = product.rem_euclid(65536) as i64;
+            let exact = product >> 16;
+            let mut note = String::new();
+            if dropped != 0 {
+                note = format!(" — {} dropped by the shift", q16(dropped));
+            }
+            if exact != i128::from(v) {
+                note.push_str(&format!(
+                    " — overflow: (a × d) >> 16 = {exact} does not fit 32 bits; bits 47..16 kept = {v}"
+                ));
+            }
+            note
+        }
+        ExtOp::Div => exact_div(a128, i128::from(sx16(lo(d)))),
+        ExtOp::DivRev => exact_div(d128, i128::from(sx16(lo(a)))),
+        // vals: upper, lower, divisor, quotient.
+        ExtOp::DivU64 => {
+            let n = i128::from(u64::from(a as u32) << 32 | u64::from(d as u32));
+            exact_div(n, i128::from(v as u32))
+        }
+        _ => String::new(),
+    }
+}
+
+fn ext_formula(
+    op: ExtOp,
+    res: u8,
+    reg1: u8,
+    d_name: &str,
+    outcome: Outcome,
+    vals: [i32; 4],
+) -> String {
     let [a, d, v, extra] = vals;
     let r1 = format!("R{reg1}");
     let out = format!("R{res}");

@@ -179,6 +179,15 @@ impl SilverLode {
     /// [`SilverLode::written_by_last`] without a list (a register may come twice).
     #[inline]
     fn each_written_register<F: FnMut(usize)>(&self, mut f: F) {
+        self.each_register_the_command_wrote(&mut f);
+        if self.s.motion_ticked {
+            [0, 1, 6, 7].into_iter().for_each(f);
+        }
+    }
+
+    /// The registers the last command wrote, without the motion model's.
+    #[inline]
+    fn each_register_the_command_wrote<F: FnMut(usize)>(&self, mut f: F) {
         let last = self.s.last;
         if last.outcome != Outcome::Done {
             return;
@@ -228,9 +237,6 @@ impl SilverLode {
             Instr::Ztp => [0, 1, 6].into_iter().for_each(&mut f),
             Instr::Ttp => f(0),
             _ => {}
-        }
-        if self.s.motion_ticked {
-            [0, 1, 6, 7].into_iter().for_each(f);
         }
     }
 }
@@ -408,6 +414,24 @@ impl MachineView for SilverLode {
     }
     fn for_each_written(&self, f: &mut dyn FnMut(Loc)) {
         self.each_written_register(|r| f(reg(r as u32)));
+    }
+    fn instruction_written(&self) -> Vec<Loc> {
+        let mut regs = Vec::new();
+        self.each_register_the_command_wrote(|r| regs.push(r));
+        regs.sort_unstable();
+        regs.dedup();
+        let mut out: Vec<Loc> = regs.into_iter().map(|r| reg(r as u32)).collect();
+        // Every calculation and queue command sets the ISW flags (spec §4); DLY its DELAY_DONE.
+        let last = self.s.last;
+        let sets_isw = last.outcome == Outcome::Done
+            && matches!(
+                self.program.instrs.get(last.pc as usize),
+                Some(Instr::Clc { .. } | Instr::Cld { .. } | Instr::Clx { .. } | Instr::Dly { .. })
+            );
+        if sets_isw {
+            out.push(Loc::new(1, 0));
+        }
+        out
     }
     fn note_writes(&self, set: &mut crate::machine::WriteSet) {
         self.each_written_register(|r| set.insert(reg(r as u32)));

@@ -3,7 +3,7 @@
 
 use super::program::{AddKind, Data, Op, Operand, Value};
 use super::{PREDEFINED, Tml};
-use crate::machine::value::q16_exact;
+use crate::machine::value::{q16_exact, remainder_note, wrap_note};
 
 fn name(m: &Tml, op: &Operand) -> String {
     let base = match op.data {
@@ -33,22 +33,44 @@ fn source(m: &Tml, v: &Value, read: i64) -> String {
     }
 }
 
+/// What a shift lost: bits shifted out at the top (the result wrapped) or at the bottom.
+fn shift_note(value: i64, left: bool, n: u8, stored: i64) -> String {
+    let n = u32::from(n.min(63));
+    if left {
+        wrap_note(i128::from(value) << n, stored)
+    } else {
+        let dropped = value & ((1i64 << n) - 1);
+        if dropped == 0 {
+            String::new()
+        } else {
+            format!(" — the low {n} bit(s) ({dropped}) were shifted out")
+        }
+    }
+}
+
 pub fn explain(m: &Tml) -> Option<String> {
     let index = m.last? as usize;
     let stmt = m.program.stmts.get(index)?;
     let [a, b, r] = m.last_vals;
     let text = match stmt.op {
-        Op::Assign(dst, src) => format!("{} = {}", name(m, &dst), match src {
+        Op::Assign(dst, src) => format!("{} = {}{}", name(m, &dst), match src {
             Value::Imm(_) => shown(&dst, r),
             Value::Var(s) => format!("{} = {}", name(m, &s), shown(&dst, r)),
-        }),
-        Op::Negate(dst, src) => format!("{} = −({} {a}) = {}", name(m, &dst), name(m, &src), shown(&dst, r)),
+        }, wrap_note(i128::from(a), r)),
+        Op::Negate(dst, src) => format!(
+            "{} = −({} {a}) = {}{}",
+            name(m, &dst),
+            name(m, &src),
+            shown(&dst, r),
+            wrap_note(-i128::from(a), r)
+        ),
         Op::AssignShift { dst, src, left, n } => format!(
-            "{} = {} {a} {} {n} = {}",
+            "{} = {} {a} {} {n} = {}{}",
             name(m, &dst),
             name(m, &src),
             if left { "<<" } else { ">>" },
-            shown(&dst, r)
+            shown(&dst, r),
+            shift_note(a, left, n, r)
         ),
         Op::Add { dst, src, kind, subtract } => {
             let sign = if subtract { "−" } else { "+" };
@@ -58,7 +80,17 @@ pub fn explain(m: &Tml) -> Option<String> {
                 }
                 (s, _) => source(m, &s, b),
             };
-            format!("{} = {a} {sign} {what} = {}", name(m, &dst), shown(&dst, r))
+            let exact = if subtract {
+                i128::from(a) - i128::from(b)
+            } else {
+                i128::from(a) + i128::from(b)
+            };
+            format!(
+                "{} = {a} {sign} {what} = {}{}",
+                name(m, &dst),
+                shown(&dst, r),
+                wrap_note(exact, r)
+            )
         }
         Op::Multiply { a: x, b: y, left, n } => {
             let mult = m.last_multiply?;
@@ -82,7 +114,18 @@ pub fn explain(m: &Tml) -> Option<String> {
             } else {
                 format!("({a} × 65536)")
             };
-            let note = if b == 0 { " (÷0 saturates)" } else { "" };
+            let n = if dst.is_fixed() {
+                i128::from(a)
+            } else {
+                i128::from(a) * 65536
+            };
+            let note = if b == 0 {
+                " — ÷0: saturated".to_string()
+            } else if n / i128::from(b) != i128::from(r) {
+                format!(" — saturated: the exact quotient {} does not fit 32 bits", n / i128::from(b))
+            } else {
+                remainder_note(n % i128::from(b))
+            };
             format!(
                 "{} /= {}: {num} / {b} = {r} = {} (fixed){note}",
                 name(m, &dst),
@@ -91,10 +134,11 @@ pub fn explain(m: &Tml) -> Option<String> {
             )
         }
         Op::Shift { dst, left, n } => format!(
-            "{} {}= {n}: {a} → {}",
+            "{} {}= {n}: {a} → {}{}",
             name(m, &dst),
             if left { "<<" } else { ">>" },
-            shown(&dst, r)
+            shown(&dst, r),
+            shift_note(a, left, n, r)
         ),
         Op::ShiftProduct { left, n } => format!(
             "PREG {}= {n}: {a} → {} (0x{:012X})",

@@ -156,6 +156,12 @@ impl Tml {
     /// Each location the last executed instruction wrote (one may come twice).
     #[inline]
     fn each_written<F: FnMut(Loc)>(&self, mut f: F) {
+        self.each_statement_written(&mut f);
+        self.each_motion_written(f);
+    }
+
+    /// What the last statement itself wrote, without the motion profile's tick.
+    fn each_statement_written<F: FnMut(Loc)>(&self, mut f: F) {
         if let Some(stmt) = self.last.and_then(|i| self.program.stmts.get(i as usize)) {
             match stmt.op {
                 Op::Assign(dst, _)
@@ -176,7 +182,6 @@ impl Tml {
                 _ => {}
             }
         }
-        self.each_motion_written(f);
     }
 
     /// The motion data a tick's end writes while the profile moves.
@@ -382,6 +387,15 @@ impl MachineView for Tml {
     }
     fn for_each_written(&self, f: &mut dyn FnMut(Loc)) {
         self.each_written(f);
+    }
+    fn instruction_written(&self) -> Vec<Loc> {
+        let mut out = Vec::new();
+        self.each_statement_written(|loc| {
+            if !out.contains(&loc) {
+                out.push(loc);
+            }
+        });
+        out
     }
     fn note_writes(&self, set: &mut crate::machine::WriteSet) {
         self.each_written(|loc| set.insert(loc));
