@@ -228,3 +228,23 @@ fn the_gutter_menu_adds_a_log_point_and_marks_it() {
         "the list comes to the front"
     );
 }
+
+/// Issue #22 item 16: the Log opens on its newest entry, not scrolled to an older one (rows are
+/// laid out only where they show, so the newest one's label exists only if it is in view).
+#[test]
+fn the_log_opens_on_its_newest_entry() {
+    let mut h = harness("loop: CLC INC, 13\nJMP loop\n");
+    for _ in 0..1000 {
+        h.state_mut().debugger.step_command();
+    }
+    h.run_steps(1);
+    open_tab(&mut h, Pane::Log);
+    h.run_steps(4);
+    let rows = &h.state().log.log.rows;
+    assert!(rows.len() >= 500, "{} rows", rows.len());
+    let newest = format!("{:>9}", rows.last().expect("rows").at.to_string());
+    assert!(
+        h.query_all_by_label_contains(&newest).count() > 0,
+        "the newest entry ({newest}) is in view"
+    );
+}

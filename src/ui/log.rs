@@ -236,7 +236,9 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut LogView, out: &mu
         .id_salt("execution_log")
         .auto_shrink([false, false]);
     if std::mem::take(&mut view.scroll_to_end) {
-        area = area.vertical_scroll_offset(row_height * log.rows.len() as f32);
+        // Rows are spaced by the item spacing too; past the end is clamped to the last row.
+        let pitch = row_height + ui.spacing().item_spacing.y;
+        area = area.vertical_scroll_offset(pitch * (log.rows.len() + 1) as f32);
     }
     area.show_rows(ui, row_height, log.rows.len(), |ui, range| {
         for r in &log.rows[range] {
