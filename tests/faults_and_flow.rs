@@ -346,3 +346,88 @@ fn explanations_show_operands_and_values() {
     );
     assert_eq!(m.written_by_last(), vec![10, 27, 28, 31]);
 }
+
+/// Issue #22 item 17: step over runs a CALL's subroutine whole, step out runs to its return,
+/// and both have backward versions; a breakpoint inside the subroutine still stops a step over.
+mod step_over_and_out {
+    use std::time::Duration;
+
+    use servoscope::debugger::{Breakpoint, Debugger, Speed};
+
+    const CALLS: &str = include_str!("../assets/examples/call_ret.qsl");
+
+    fn settle(d: &mut Debugger) {
+        while d.advance(0.016, Duration::from_millis(200)) {}
+    }
+
+    fn line(d: &Debugger) -> Option<usize> {
+        d.machine().pc_line()
+    }
+
+    fn r(d: &Debugger, name: &str) -> u64 {
+        d.machine().read(d.find(name).expect("a location"))
+    }
+
+    #[test]
+    fn over_into_and_out_of_a_call() {
+        let mut d = Debugger::new("call_ret.qsl", CALLS);
+        d.set_speed(Speed::PerSecond(1.0)); // stepping ignores the run speed
+        d.step_over(); // WRP n, 10
+        assert_eq!(line(&d), Some(11));
+        // Over the CALL: the square is computed, the next line is the CLX ADD.
+        d.step_over();
+        settle(&mut d);
+        assert_eq!(line(&d), Some(12), "stopped after the subroutine");
+        assert_eq!(r(&d, "square"), 100);
+        assert_eq!(d.machine().call_depth(), 0);
+        // Into the next CALL (F11): inside the subroutine, one deep.
+        d.step_over(); // CLX ADD
+        d.step_over(); // CLC DEC
+        d.step_over(); // JMP loop
+        assert_eq!(line(&d), Some(11));
+        d.step_command();
+        assert_eq!(line(&d), Some(18), "into square_n");
+        assert_eq!(d.machine().call_depth(), 1);
+        // Out: runs to the return, back in the caller after the CALL.
+        d.step_out();
+        settle(&mut d);
+        assert_eq!(line(&d), Some(12));
+        assert_eq!(d.machine().call_depth(), 0);
+        assert_eq!(r(&d, "square"), 81);
+
+        // Backward: over the call that just returned, back to the CALL itself.
+        d.step_back_over();
+        settle(&mut d);
+        assert_eq!(line(&d), Some(11), "back before the CALL");
+        assert_eq!(d.machine().call_depth(), 0);
+        assert_eq!(r(&d, "square"), 100, "the square of the previous round");
+        // Into it again and back out of it: to the CALL.
+        d.step_command();
+        d.step_command();
+        assert_eq!(line(&d), Some(19), "at the RET");
+        d.step_back_out();
+        settle(&mut d);
+        assert_eq!(line(&d), Some(11));
+        assert_eq!(d.machine().call_depth(), 0);
+    }
+
+    #[test]
+    fn a_breakpoint_inside_the_subroutine_stops_a_step_over() {
+        let mut d = Debugger::new("call_ret.qsl", CALLS);
+        d.step_over();
+        d.add_breakpoint(Breakpoint::line(19));
+        d.step_over();
+        settle(&mut d);
+        assert_eq!(line(&d), Some(19), "at the breakpoint on RET");
+        assert_eq!(d.machine().call_depth(), 1);
+    }
+
+    #[test]
+    fn step_out_at_the_outermost_level_runs_on() {
+        let mut d = Debugger::new("call_ret.qsl", CALLS);
+        d.set_speed(Speed::Unlimited);
+        d.step_out();
+        settle(&mut d);
+        assert_eq!(r(&d, "total"), 385, "ran to the end");
+    }
+}

@@ -508,7 +508,7 @@ fn stepping_back_with_the_keys() {
         (0, 21, Some(3)),
         "WRP 12 undone"
     );
-    h.key_press_modifiers(Modifiers::SHIFT, Key::F11);
+    h.key_press_modifiers(Modifiers::SHIFT, Key::F8);
     h.run_steps(2);
     assert_eq!(
         h.state().debugger.machine().ticks(),
@@ -1372,4 +1372,38 @@ fn a_channels_plot_is_chosen_inside_the_channels_popup() {
     );
     // The popup is still open.
     h.get_by_label("Add channel");
+}
+
+/// Issue #22 item 17: F10 steps over a CALL, F11 into it, Shift+F11 out of it; the toolbar
+/// offers "Step out" inside a subroutine and the Debug menu names the keys.
+#[test]
+fn the_stepping_keys_go_over_into_and_out_of_a_call() {
+    let mut h = harness(app_with(include_str!("../assets/examples/call_ret.qsl")));
+    let line = |h: &Harness<'static, ServoscopeApp>| h.state().debugger.machine().pc_line();
+    h.key_press(Key::F10);
+    h.run_steps(2);
+    assert_eq!(line(&h), Some(11), "at the CALL");
+    assert!(
+        h.query_by_label("Step out").is_none(),
+        "not inside a subroutine"
+    );
+    h.key_press(Key::F10);
+    h.run_steps(3);
+    assert_eq!(line(&h), Some(12), "over the CALL");
+    for _ in 0..3 {
+        h.key_press(Key::F10);
+        h.run_steps(2);
+    }
+    assert_eq!(line(&h), Some(11));
+    h.key_press(Key::F11);
+    h.run_steps(2);
+    assert_eq!(line(&h), Some(18), "into square_n");
+    h.get_by_label("Step out");
+    h.key_press_modifiers(Modifiers::SHIFT, Key::F11);
+    h.run_steps(3);
+    assert_eq!(line(&h), Some(12), "out to the caller");
+    h.get_by_label("Debug").click();
+    h.run_steps(2);
+    h.get_by_label_contains("Step out (until the subroutine returns)");
+    h.get_by_label_contains("Step into (one");
 }

@@ -27,6 +27,9 @@ pub struct StopWhen<'a> {
     pub skip_first: bool,
     /// Stop when the machine's error lamp is on (set only when it was off as the run began).
     pub on_error: bool,
+    /// Stop only where at most this many calls are in progress (and past `after`, if set):
+    /// step over and step out, forward and back.
+    pub depth_at_most: Option<usize>,
 }
 
 impl StopWhen<'_> {
@@ -35,6 +38,7 @@ impl StopWhen<'_> {
         !self.any
             && !self.on_error
             && self.after.is_none()
+            && self.depth_at_most.is_none()
             && self.line.is_none()
             && self.checker.is_none()
     }
@@ -43,7 +47,7 @@ impl StopWhen<'_> {
     /// when those are the only boundaries it needs to see (breakpoints and run to line; not a
     /// step or the error lamp).
     pub fn quiet_plan(&self) -> Option<(Vec<usize>, Vec<Loc>)> {
-        if self.any || self.on_error || self.after.is_some() {
+        if self.any || self.on_error || self.after.is_some() || self.depth_at_most.is_some() {
             return None;
         }
         let (mut lines, written) = match self.checker {
@@ -60,10 +64,15 @@ impl StopWhen<'_> {
         if self.any || (self.on_error && m.error_lamp()) {
             return true;
         }
-        if let Some(after) = self.after
-            && m.pos() > after
-        {
-            return true;
+        match (self.depth_at_most, self.after) {
+            (Some(depth), after)
+                if after.is_none_or(|a| m.pos() > a) && m.call_depth() <= depth =>
+            {
+                return true;
+            }
+            (Some(_), _) => {}
+            (None, Some(after)) if m.pos() > after => return true,
+            _ => {}
         }
         if let Some(line) = self.line
             && m.pc_line() == Some(line)

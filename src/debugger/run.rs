@@ -68,6 +68,9 @@ pub enum Goal {
     /// A search back (step back, reverse-continue) too long for one frame: it goes on over
     /// frames, and Pause cancels it where it started.
     Back,
+    /// Step over a call or out of one: past `after`, until no more than `depth` calls are in
+    /// progress (or a breakpoint).
+    Out { after: Pos, depth: usize },
 }
 
 /// Why the debugger last stopped, for the status bar.
@@ -236,6 +239,16 @@ pub(crate) fn run_chunk(
                 ..StopWhen::default()
             },
         ),
+        Goal::Out { after, depth } => engine.forward(
+            chunk,
+            &StopWhen {
+                checker,
+                after: Some(after),
+                depth_at_most: Some(depth),
+                on_error: plan.on_error,
+                ..StopWhen::default()
+            },
+        ),
     }
 }
 
@@ -259,6 +272,52 @@ impl Debugger {
         } else {
             self.after_stop(Event::Stepped);
         }
+    }
+
+    /// Step over (F10): one instruction, and when it was a call, the whole subroutine too
+    /// (stopping early at a breakpoint inside it, the end or a fault).
+    pub fn step_over(&mut self) {
+        if !self.ready() || !self.live() {
+            return;
+        }
+        let depth = self.machine().call_depth();
+        self.step_command();
+        if self.goal.is_none() && self.machine().call_depth() > depth && self.live() {
+            self.run_out_to(depth);
+        }
+    }
+
+    /// Step out (Shift+F11): run until the subroutine on hand returns; outside any, run on
+    /// (as a debugger's step out of the outermost frame does).
+    pub fn step_out(&mut self) {
+        if !self.ready() || !self.live() {
+            return;
+        }
+        match self.machine().call_depth().checked_sub(1) {
+            Some(depth) => self.run_out_to(depth),
+            None => self.run(),
+        }
+    }
+
+    fn run_out_to(&mut self, depth: usize) {
+        let after = self.pos();
+        self.start(Goal::Out { after, depth });
+        // A breakpoint on the subroutine's first line stops it: nothing to skip here.
+        self.resume_past_breakpoint = false;
+    }
+
+    /// Step back over (Shift+F10): back one instruction, or over a whole call that just
+    /// returned, to the CALL.
+    pub fn step_back_over(&mut self) {
+        let depth = self.machine().call_depth();
+        self.search_back_to(false, Some(depth));
+    }
+
+    /// Step back out (Ctrl+Shift+F11): back to the CALL that entered the subroutine on hand;
+    /// outside any, one instruction back.
+    pub fn step_back_out(&mut self) {
+        let depth = self.machine().call_depth().checked_sub(1);
+        self.search_back_to(false, depth);
     }
 
     /// Advance to the end of the current tick (F11): one tick, or the rest of the scan.
@@ -393,7 +452,7 @@ impl Debugger {
         }
         let started = Instant::now();
         let mut commands = match (goal, self.speed) {
-            (Goal::FinishStep | Goal::ToTick(_), _)
+            (Goal::FinishStep | Goal::ToTick(_) | Goal::Out { .. }, _)
             | (_, Speed::Unlimited)
             | (_, Speed::RealTime(_)) => u64::MAX,
             (_, Speed::PerSecond(n)) => {
@@ -474,7 +533,8 @@ impl Debugger {
     fn runs_on_worker(&self, goal: Goal) -> bool {
         match goal {
             Goal::Back => false,
-            Goal::FinishStep | Goal::ToTick(_) => true,
+            // Stepping over or out of a call goes as fast as a step does.
+            Goal::FinishStep | Goal::ToTick(_) | Goal::Out { .. } => true,
             Goal::Continue | Goal::ToLine(_) => self.speed == Speed::Unlimited,
         }
     }
@@ -566,6 +626,7 @@ impl Debugger {
                 self.engine.mark(MarkKind::Fault, line);
                 Event::ErrorLamp(line)
             }
+            Goal::Out { .. } if hit.is_none() => Event::Stepped,
             _ => self.breakpoint_event(hit),
         });
     }
@@ -730,6 +791,11 @@ impl Debugger {
     /// replay now, the rest over the next frames (within each frame's budget) with the goal
     /// [`Goal::Back`]; Pause cancels it where it started.
     fn search_back(&mut self, breakpoints: bool) {
+        self.search_back_to(breakpoints, None);
+    }
+
+    /// [`Debugger::search_back`] for a boundary with at most `depth` calls in progress.
+    fn search_back_to(&mut self, breakpoints: bool, depth: Option<usize>) {
         let Some(now) = self.going_back() else {
             return;
         };
@@ -740,6 +806,7 @@ impl Debugger {
         };
         self.back = Some(Back {
             breakpoints,
+            depth,
             search: BackSearch::new(now),
             checker: RefCell::new(checker),
         });
@@ -763,8 +830,9 @@ impl Debugger {
         };
         loop {
             let wanted = StopWhen {
-                any: !back.breakpoints,
+                any: !back.breakpoints && back.depth.is_none(),
                 checker: back.breakpoints.then_some(&back.checker),
+                depth_at_most: back.depth,
                 ..StopWhen::default()
             };
             self.engine.find_back_some(&mut back.search, ticks, &wanted);
@@ -810,6 +878,8 @@ pub const BACK_TICKS_AT_ONCE: u64 = 4 * super::history::CHECKPOINT_EVERY;
 pub(crate) struct Back {
     /// For a breakpoint (reverse-continue) or for any boundary (step back).
     breakpoints: bool,
+    /// Only a boundary with at most this many calls in progress (step back over / out).
+    depth: Option<usize>,
     search: BackSearch,
     checker: RefCell<Checker>,
 }

@@ -272,6 +272,10 @@ pub trait MachineView: Send + 'static {
     fn call_stack_lines(&self) -> Vec<usize> {
         Vec::new()
     }
+    /// Subroutine calls in progress (step over and step out run until it drops back).
+    fn call_depth(&self) -> usize {
+        self.call_stack_lines().len()
+    }
     fn run_state(&self) -> RunState;
     fn fault(&self) -> Option<FaultInfo> {
         None

@@ -13,8 +13,13 @@ pub const RUN: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F5
 pub const PAUSE: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F6);
 pub const RESET: KeyboardShortcut =
     KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::F5);
+// The stepping keys of Visual Studio and VS Code: F10 over, F11 into, Shift+F11 out; the
+// Shift of each goes back (Shift+F10 back over; back into and back out add Ctrl). A whole tick
+// or scan moved to F8.
 pub const STEP: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F10);
-pub const STEP_TICK: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F11);
+pub const STEP_INTO: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F11);
+pub const STEP_OUT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::SHIFT, Key::F11);
+pub const STEP_TICK: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F8);
 pub const RUN_TO_CURSOR: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::F10);
 pub const TOGGLE_BREAKPOINT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F9);
 pub const ASSEMBLE: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Enter);
@@ -24,7 +29,11 @@ pub const SAVE_AS: KeyboardShortcut =
     KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::S);
 pub const REVERSE: KeyboardShortcut = KeyboardShortcut::new(Modifiers::SHIFT, Key::F5);
 pub const STEP_BACK: KeyboardShortcut = KeyboardShortcut::new(Modifiers::SHIFT, Key::F10);
-pub const TICK_BACK: KeyboardShortcut = KeyboardShortcut::new(Modifiers::SHIFT, Key::F11);
+pub const STEP_BACK_INTO: KeyboardShortcut =
+    KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::F10);
+pub const STEP_BACK_OUT: KeyboardShortcut =
+    KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::F11);
+pub const TICK_BACK: KeyboardShortcut = KeyboardShortcut::new(Modifiers::SHIFT, Key::F8);
 
 /// Shortcuts, most specific first (egui ignores extra Shift when matching).
 pub fn shortcuts(
@@ -36,10 +45,13 @@ pub fn shortcuts(
     let target = code.target_line(debugger);
     // Most specific first: egui ignores an extra Shift when matching the plain keys.
     // A command needing the cursor's line is skipped (its key still consumed) without one.
-    let table: [(&KeyboardShortcut, Option<Command>); 14] = [
+    let table: [(&KeyboardShortcut, Option<Command>); 18] = [
         (&RESET, Some(Command::Reset)),
+        (&STEP_BACK_INTO, Some(Command::StepBackCommand)),
+        (&STEP_BACK_OUT, Some(Command::StepBackOut)),
         (&REVERSE, Some(Command::ReverseContinue)),
-        (&STEP_BACK, Some(Command::StepBackCommand)),
+        (&STEP_BACK, Some(Command::StepBackOver)),
+        (&STEP_OUT, Some(Command::StepOut)),
         (&TICK_BACK, Some(Command::StepBackTick)),
         (&SAVE_AS, Some(Command::SaveSessionDialog)),
         (&SAVE, Some(Command::SaveSession)),
@@ -48,7 +60,8 @@ pub fn shortcuts(
         (&OPEN, Some(Command::OpenDialog)),
         (&RUN, Some(Command::Run)),
         (&PAUSE, Some(Command::Pause)),
-        (&STEP, Some(Command::StepCommand)),
+        (&STEP, Some(Command::StepOver)),
+        (&STEP_INTO, Some(Command::StepCommand)),
         (&STEP_TICK, Some(Command::StepTick)),
         (&TOGGLE_BREAKPOINT, target.map(Command::ToggleBreakpoint)),
     ];
@@ -143,20 +156,36 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
             let target = app.code.target_line(&app.debugger);
             let words = app.debugger.dialect().vocabulary;
             let (step, step_back) = (
-                format!("Step {}", words.step),
-                format!("Step back {}", words.step),
+                format!("Step over ({} a call runs whole)", words.step),
+                format!("Step back over ({} a call runs whole)", words.step),
+            );
+            let (into, back_into) = (
+                format!("Step into (one {})", words.step),
+                format!("Step back into (one {})", words.step),
             );
             let (tick, tick_back) = (
                 format!("Step {}", words.tick),
                 format!("Step back {}", words.tick),
             );
-            let items: [(&str, &KeyboardShortcut, Option<Command>); 11] = [
+            let items: [(&str, &KeyboardShortcut, Option<Command>); 15] = [
                 ("Run / Continue", &RUN, Some(Command::Run)),
                 ("Pause", &PAUSE, Some(Command::Pause)),
-                (&step, &STEP, Some(Command::StepCommand)),
+                (&step, &STEP, Some(Command::StepOver)),
+                (&into, &STEP_INTO, Some(Command::StepCommand)),
+                (
+                    "Step out (until the subroutine returns)",
+                    &STEP_OUT,
+                    Some(Command::StepOut),
+                ),
                 (&tick, &STEP_TICK, Some(Command::StepTick)),
                 ("Reverse continue", &REVERSE, Some(Command::ReverseContinue)),
-                (&step_back, &STEP_BACK, Some(Command::StepBackCommand)),
+                (&step_back, &STEP_BACK, Some(Command::StepBackOver)),
+                (&back_into, &STEP_BACK_INTO, Some(Command::StepBackCommand)),
+                (
+                    "Step back out (to the CALL)",
+                    &STEP_BACK_OUT,
+                    Some(Command::StepBackOut),
+                ),
                 (&tick_back, &TICK_BACK, Some(Command::StepBackTick)),
                 (
                     "Run to cursor",
@@ -215,10 +244,13 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
             }
         });
         ui.menu_button("Help", |ui| {
-            ui.label("F5 run · F6 pause · F10 step · F11 tick");
-            ui.label("F9 breakpoint · Ctrl+F10 run to cursor");
+            ui.label("F5 run · F6 pause · F10 step over · F11 step into · Shift+F11 step out");
+            ui.label("F8 one tick or scan · F9 breakpoint · Ctrl+F10 run to cursor");
             ui.label("Ctrl+Shift+F5 reset · Ctrl+Enter assemble");
-            ui.label("Shift+F10 step back · Shift+F11 tick back · Shift+F5 reverse");
+            ui.label(
+                "Shift+F10 step back over · Ctrl+Shift+F10 back into · Ctrl+Shift+F11 back out",
+            );
+            ui.label("Shift+F8 tick back · Shift+F5 reverse");
             ui.label("Ctrl+S save session · Ctrl+O open program or session");
             ui.label("Ctrl+F find · Ctrl+G go to line · PageUp/PageDown");
             ui.label("Click the gutter to toggle a breakpoint.");
@@ -287,10 +319,27 @@ pub fn toolbar(
         }
         if ui
             .add_enabled(can_run, egui::Button::new("Step"))
-            .on_hover_text(format!("Execute one {} ({})", words.step, tip(&STEP)))
+            .on_hover_text(format!(
+                "Execute one {}; a call runs whole ({}). Into a call: {}",
+                words.step,
+                tip(&STEP),
+                tip(&STEP_INTO)
+            ))
             .clicked()
         {
-            out.push(Command::StepCommand);
+            out.push(Command::StepOver);
+        }
+        // Inside a subroutine: a way out of it, where the user sees it is one.
+        if machine.call_depth() > 0
+            && ui
+                .add_enabled(can_run, egui::Button::new("Step out"))
+                .on_hover_text(format!(
+                    "Run until this subroutine returns ({})",
+                    tip(&STEP_OUT)
+                ))
+                .clicked()
+        {
+            out.push(Command::StepOut);
         }
         let tick_button = super::timeline::capitalised(words.tick);
         if ui

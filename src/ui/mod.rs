@@ -37,7 +37,12 @@ use panels::DialectPanel;
 /// What a user asked for, from a panel, the menu or a key.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Command {
+    /// One instruction, into a call (F11).
     StepCommand,
+    /// One instruction, over a call (F10).
+    StepOver,
+    /// Until the subroutine on hand returns (Shift+F11).
+    StepOut,
     StepTick,
     Run,
     Pause,
@@ -52,7 +57,12 @@ pub enum Command {
     ToggleBit(Loc, u8),
     SetBit(Loc, u8, bool),
     SetChannels(Vec<ChannelChoice>),
+    /// One instruction back, into a call that just returned (Ctrl+Shift+F10).
     StepBackCommand,
+    /// One instruction back, over a call that just returned (Shift+F10).
+    StepBackOver,
+    /// Back to the CALL that entered the subroutine on hand (Ctrl+Shift+F11).
+    StepBackOut,
     StepBackTick,
     ReverseContinue,
     GoToTick(u64),
@@ -642,8 +652,12 @@ impl ServoscopeApp {
         let d = &mut self.debugger;
         match command {
             Command::StepCommand => d.step_command(),
+            Command::StepOver => d.step_over(),
+            Command::StepOut => d.step_out(),
             Command::StepTick => d.step_tick(),
             Command::StepBackCommand => d.step_back_command(),
+            Command::StepBackOver => d.step_back_over(),
+            Command::StepBackOut => d.step_back_out(),
             Command::StepBackTick => d.step_back_tick(),
             Command::ReverseContinue => d.reverse_continue(),
             Command::GoToTick(tick) => d.goto_tick(tick),

@@ -36,10 +36,13 @@ pub fn show(
         }
         if ui
             .add_enabled(back_ok, egui::Button::new("Step back"))
-            .on_hover_text(format!("Undo the last {} (Shift+F10)", words.step))
+            .on_hover_text(format!(
+                "Undo the last {}; a call that just returned, whole (Shift+F10)",
+                words.step
+            ))
             .clicked()
         {
-            out.push(Command::StepBackCommand);
+            out.push(Command::StepBackOver);
         }
         if ui
             .add_enabled(
@@ -47,7 +50,7 @@ pub fn show(
                 egui::Button::new(format!("{} back", capitalised(words.tick))),
             )
             .on_hover_text(format!(
-                "Back to the start of this or the previous {} (Shift+F11)",
+                "Back to the start of this or the previous {} (Shift+F8)",
                 words.tick
             ))
             .clicked()

@@ -376,6 +376,9 @@ impl MachineView for SilverLode {
     fn pc_line(&self) -> Option<usize> {
         self.line_of(self.pc())
     }
+    fn call_depth(&self) -> usize {
+        self.state().sp as usize
+    }
     fn call_stack_lines(&self) -> Vec<usize> {
         let s = self.state();
         s.stack[..s.sp as usize]

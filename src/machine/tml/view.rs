@@ -352,6 +352,9 @@ impl MachineView for Tml {
     fn pc_line(&self) -> Option<usize> {
         self.program.stmts.get(self.pc as usize).map(|s| s.line)
     }
+    fn call_depth(&self) -> usize {
+        self.stack.len()
+    }
     fn call_stack_lines(&self) -> Vec<usize> {
         self.stack
             .iter()
