@@ -446,3 +446,39 @@ fn panels_added_since_a_layout_was_saved_join_it_once() {
     let h = harness_sized(ServoscopeApp::new(prefs), 1280.0, 800.0);
     assert!(!h.state().layout.contains(&Pane::Watches));
 }
+
+/// Issue #22 item 18: at 900×600 the register table's columns all lie inside its panel (Hex
+/// was cut off, with no scroll bar); with room, Binary joins them.
+#[test]
+fn the_register_columns_fit_their_panel_at_any_size() {
+    for (size, binary) in [((900.0, 600.0), false), ((1920.0, 1080.0), true)] {
+        let mut h = harness_sized(ServoscopeApp::new(Prefs::default()), size.0, size.1);
+        h.run_steps(2);
+        let panel = h
+            .state()
+            .layout
+            .pane_rects()
+            .into_iter()
+            .find(|(p, _)| *p == Pane::Registers)
+            .map(|(_, r)| r)
+            .expect("registers shown");
+        for title in ["Location", "Name", "Value", "Hex"] {
+            let rect = h.get_by_label(title).rect();
+            assert!(
+                panel.contains_rect(rect),
+                "{title} at {rect:?}, panel {panel:?} in {size:?}"
+            );
+        }
+        // The widest value of the Hex column (R0 = 0x0000_0000) ends inside the panel.
+        let hex = h
+            .get_all_by_label("0x0000_0000")
+            .next()
+            .expect("a hex value")
+            .rect();
+        assert!(
+            hex.right() <= panel.right(),
+            "hex at {hex:?}, panel {panel:?} in {size:?}"
+        );
+        assert_eq!(h.query_by_label("Binary").is_some(), binary, "{size:?}");
+    }
+}

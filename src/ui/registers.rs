@@ -144,11 +144,9 @@ pub fn show(
         ui.checkbox(&mut view.only_used, "Only what this program uses");
     });
     ui.separator();
-    // Wide formats (binary of 64 bits) scroll sideways instead of widening the panel.
-    egui::ScrollArea::horizontal()
-        .id_salt("register_table_sideways")
-        .auto_shrink([false, false])
-        .show(ui, |ui| table(ui, debugger, view, out));
+    // The table fits its columns to the panel (leaving out Binary when narrow) and scrolls
+    // its rows itself, with its scroll bar in view.
+    table(ui, debugger, view, out);
 }
 
 /// The Bits panel: flag words as named bits, then the selected location bit by bit.
@@ -188,7 +186,8 @@ fn flags(ui: &mut egui::Ui, debugger: &Debugger, out: &mut Vec<Command>) {
         let mut chip =
             |ui: &mut egui::Ui, loc: Loc, bit: u8, name: &str, tip: String, label: String| {
                 let on = m.read(loc) >> bit & 1 == 1;
-                let text = RichText::new(name).small().color(if on {
+                // Readable at any window size (`small` was ~8 px at 1920×1080).
+                let text = RichText::new(name).size(12.0).color(if on {
                     egui::Color32::WHITE
                 } else {
                     p.dim
@@ -475,22 +474,59 @@ fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView, out: &
     let names = m.program_names();
     let spaces = m.spaces();
     let row_height = ui.text_style_height(&egui::TextStyle::Monospace) + 4.0;
+    // The Binary column is never narrower than its widest value: a narrow panel scrolls
+    // sideways (with a scroll bar) instead of clipping bits.
+    let mut widest_bits = 1u8;
+    let mut last_space = None;
+    for loc in &rows {
+        if last_space != Some(loc.space) {
+            last_space = Some(loc.space);
+            if let Some(info) = m.info(*loc) {
+                widest_bits = widest_bits.max(info.width);
+            }
+        }
+    }
+    let binary_chars = value::binary(0, widest_bits).chars().count() as f32;
+    let binary_width = binary_chars * 11.0 * 0.62 + 12.0;
     let mut clicked: Option<Loc> = None;
     // Cells are read, not selected: clicks go to the row (select) and its context menu.
     ui.style_mut().interaction.selectable_labels = false;
     let mut format_change: Option<(Loc, Option<Format>)> = None;
-    TableBuilder::new(ui)
+    // A panel too narrow for every column leaves out Binary (the Bits panel shows the selected
+    // location's bits), then narrows Name, rather than cutting columns off at the edge.
+    // What the columns need with their gaps and the scroll bar.
+    let room = ui.available_width() - 40.0;
+    let show_binary = room >= 64.0 + 84.0 + 88.0 + 120.0 + binary_width;
+    let name_width = if room < 64.0 + 84.0 + 88.0 + 100.0 {
+        56.0
+    } else {
+        84.0
+    };
+    let mut titles = vec!["Location", "Name", "Value", "Hex"];
+    let mut builder = TableBuilder::new(ui)
         .id_salt("register_table")
+        // The body fills the panel and no more (egui_extras' default stops at 800 px, which a
+        // short panel clipped, scroll bar and all).
+        .max_scroll_height(f32::INFINITY)
+        .auto_shrink([false, false])
+        .scroll_bar_visibility(egui::scroll_area::ScrollBarVisibility::AlwaysVisible)
         .striped(true)
         .sense(Sense::click())
         .cell_layout(egui::Layout::left_to_right(egui::Align::Center))
-        .column(Column::initial(72.0).at_least(56.0).resizable(true))
-        .column(Column::exact(84.0))
-        .column(Column::initial(96.0).at_least(60.0).resizable(true))
-        .column(Column::exact(120.0))
-        .column(Column::remainder().at_least(100.0))
+        .column(Column::initial(64.0).at_least(48.0).resizable(true))
+        .column(Column::exact(name_width).clip(true))
+        .column(Column::initial(88.0).at_least(60.0).resizable(true));
+    if show_binary {
+        builder = builder
+            .column(Column::exact(120.0))
+            .column(Column::remainder().at_least(binary_width));
+        titles.push("Binary");
+    } else {
+        builder = builder.column(Column::remainder().at_least(92.0));
+    }
+    builder
         .header(20.0, |mut header| {
-            for title in ["Location", "Name", "Value", "Hex", "Binary"] {
+            for title in titles {
                 header.col(|ui| {
                     ui.strong(title);
                 });
@@ -554,14 +590,16 @@ fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView, out: &
                             .color(colour),
                     );
                 });
-                row.col(|ui| {
-                    ui.label(
-                        RichText::new(value::binary(raw, info.width))
-                            .monospace()
-                            .size(11.0)
-                            .color(colour),
-                    );
-                });
+                if show_binary {
+                    row.col(|ui| {
+                        ui.label(
+                            RichText::new(value::binary(raw, info.width))
+                                .monospace()
+                                .size(11.0)
+                                .color(colour),
+                        );
+                    });
+                }
                 let response = row.response();
                 if response.clicked() {
                     clicked = Some(loc);

@@ -8,6 +8,9 @@ pub fn apply(ctx: &egui::Context, dark: bool) {
     } else {
         egui::Theme::Light
     });
+    // Solid scroll bars, shown whenever there is more to see: egui's floating ones appear only
+    // under the pointer, so a panel clipped at 900×600 looked complete.
+    ctx.all_styles_mut(|style| style.spacing.scroll = egui::style::ScrollStyle::solid());
 }
 
 /// Colours that depend on the theme.
