@@ -307,13 +307,17 @@ fn ring(
             font.clone(),
             text_colour,
         );
-        painter.text(
-            at(mid, outer - 7.0),
-            Align2::CENTER_CENTER,
-            slot.to_string(),
-            FontId::proportional(9.0),
-            text_colour.gamma_multiply(0.7),
-        );
+        // A narrow band has room for the value only (the slot is in its tooltip): the number
+        // over it read as part of the value.
+        if outer - inner >= 28.0 {
+            painter.text(
+                at(mid, outer - 7.0),
+                Align2::CENTER_CENTER,
+                slot.to_string(),
+                FontId::proportional(9.0),
+                text_colour.gamma_multiply(0.7),
+            );
+        }
         if access.and_then(|a| a.slot) == Some(slot) {
             let colour = p.written;
             let pts: Vec<Pos2> = (0..=8)
@@ -363,8 +367,17 @@ fn ring(
         );
         label_pos
     };
-    let head_pos = marker(h.head, true, "H", p.mnemonic);
-    let tail_pos = marker(h.tail, false, "T", p.condition);
+    // In a small ring T's letter inside would land on "2/4" or "FULL": it goes outside too,
+    // and one letter pair names the slot both point at.
+    let tail_inside = inner - 17.0 >= 22.0;
+    let together = !tail_inside && h.head == h.tail;
+    let head_pos = marker(h.head, true, if together { "H T" } else { "H" }, p.mnemonic);
+    let tail_pos = marker(
+        h.tail,
+        tail_inside,
+        if together { "" } else { "T" },
+        p.condition,
+    );
     let (state, colour) = if h.len == h.size {
         ("FULL", p.error)
     } else if h.len == 0 {
