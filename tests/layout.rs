@@ -482,3 +482,64 @@ fn the_register_columns_fit_their_panel_at_any_size() {
         assert_eq!(h.query_by_label("Binary").is_some(), binary, "{size:?}");
     }
 }
+
+/// Issue #22 item 16: a panel closed (its tab's ×, or View) and reopened from View comes back
+/// where it was: a tab among its tabs, a split in its column; not a new narrow column.
+#[test]
+fn a_reopened_panel_comes_back_where_it_was() {
+    let mut h = harness_sized(ServoscopeApp::new(Prefs::default()), 1280.0, 800.0);
+    let rect_of = |h: &Harness<'_, ServoscopeApp>, pane: &Pane| {
+        h.state()
+            .layout
+            .pane_rects()
+            .into_iter()
+            .find(|(p, _)| p == pane)
+            .map(|(_, r)| r)
+    };
+    // A tab: Watches, closed by its ×, reopened from View, is a tab beside Bits again.
+    h.get_by_label("Watches").click();
+    h.run_steps(2);
+    let watches_tab = h.get_by_label("Watches").rect();
+    let close = h
+        .get_all_by_label("Close")
+        .find(|n| watches_tab.contains(n.rect().center()))
+        .expect("the Watches tab has a close button");
+    close.click();
+    h.run_steps(3);
+    assert!(!h.state().layout.contains(&Pane::Watches));
+    h.state_mut().apply(
+        &egui::Context::default(),
+        Command::ShowPane(Pane::Watches, true),
+    );
+    h.run_steps(3);
+    let tiles = &h.state().layout.tree.tiles;
+    let parent = |pane: &Pane| tiles.find_pane(pane).and_then(|t| tiles.parent_of(t));
+    assert!(parent(&Pane::Watches).is_some());
+    assert_eq!(
+        parent(&Pane::Watches),
+        parent(&Pane::Bits),
+        "a tab beside Bits again"
+    );
+    // A split: the plot, closed from View and reopened, is back in the left column below the
+    // timeline, as wide as before (not a new column at the window's edge).
+    let plot_before = rect_of(&h, &Pane::Plot).expect("plot shown");
+    let timeline = rect_of(&h, &Pane::Timeline).expect("timeline shown");
+    h.state_mut().apply(
+        &egui::Context::default(),
+        Command::ShowPane(Pane::Plot, false),
+    );
+    h.run_steps(3);
+    h.state_mut().apply(
+        &egui::Context::default(),
+        Command::ShowPane(Pane::Plot, true),
+    );
+    h.run_steps(4);
+    let plot_after = rect_of(&h, &Pane::Plot).expect("plot back");
+    assert!(
+        (plot_after.left() - plot_before.left()).abs() < 2.0
+            && (plot_after.right() - plot_before.right()).abs() < 2.0
+            && plot_after.top() >= timeline.bottom(),
+        "{plot_before:?} then {plot_after:?}"
+    );
+    assert_sound_layout(h.state(), (1280.0, 800.0));
+}

@@ -98,6 +98,75 @@ const TREE_ID: &str = "servoscope_layout";
 #[serde(transparent)]
 pub struct Layout {
     pub tree: Tree<Pane>,
+    /// Where each closed panel was, so View puts it back there (this run only).
+    #[serde(skip)]
+    pub places: Vec<(Pane, Place)>,
+}
+
+/// Where a closed panel stood: beside another panel, as a tab with it or in the same row or
+/// column of splits.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Place {
+    pub neighbour: Pane,
+    pub as_tab: bool,
+    /// In a row or column: after the neighbour's part (else before it).
+    pub after: bool,
+    /// Its share of the row or column, so it comes back at its size.
+    pub share: Option<f32>,
+}
+
+/// The first pane in `tile`'s subtree.
+fn first_pane(tiles: &Tiles<Pane>, tile: TileId) -> Option<Pane> {
+    match tiles.get(tile)? {
+        egui_tiles::Tile::Pane(p) => Some(p.clone()),
+        egui_tiles::Tile::Container(c) => c.children().find_map(|&t| first_pane(tiles, t)),
+    }
+}
+
+/// Where the pane at `tile` stands now, told by a neighbour that will outlive its closing.
+pub fn place_of(tiles: &Tiles<Pane>, tile: TileId) -> Option<(Pane, Place)> {
+    let pane = match tiles.get(tile)? {
+        egui_tiles::Tile::Pane(p) => p.clone(),
+        egui_tiles::Tile::Container(_) => return None,
+    };
+    // A tab container of its own (egui_tiles wraps panes so) counts as the pane's place.
+    let mut me = tile;
+    let mut parent = tiles.parent_of(me)?;
+    while let Some(egui_tiles::Container::Tabs(tabs)) = tiles.get_container(parent) {
+        if let Some(&other) = tabs.children.iter().find(|&&c| c != me) {
+            let neighbour = first_pane(tiles, other)?;
+            return Some((
+                pane,
+                Place {
+                    neighbour,
+                    as_tab: true,
+                    after: false,
+                    share: None,
+                },
+            ));
+        }
+        me = parent;
+        parent = tiles.parent_of(me)?;
+    }
+    let Some(egui_tiles::Container::Linear(linear)) = tiles.get_container(parent) else {
+        return None;
+    };
+    let index = linear.children.iter().position(|&c| c == me)?;
+    // Prefer the part before it: the panel goes back after it.
+    let (sibling, after) = match index.checked_sub(1) {
+        Some(before) => (linear.children[before], true),
+        None => (*linear.children.get(index + 1)?, false),
+    };
+    let neighbour = first_pane(tiles, sibling)?;
+    Some((
+        pane,
+        Place {
+            neighbour,
+            as_tab: false,
+            after,
+            share: Some(linear.shares[me]),
+        },
+    ))
 }
 
 impl Default for Layout {
@@ -151,6 +220,7 @@ impl Layout {
         set_shares(&mut tiles, root, &[(left, 3.0), (right, 2.0)]);
         Layout {
             tree: Tree::new(egui::Id::unique(TREE_ID), root, tiles),
+            places: Vec::new(),
         }
     }
 
@@ -190,8 +260,10 @@ impl Layout {
     pub fn set_shown(&mut self, pane: &Pane, shown: bool) {
         match (self.tree.tiles.find_pane(pane), shown) {
             (Some(id), false) => {
+                self.remember_place(id);
                 self.tree.remove_recursively(id);
             }
+            (None, true) if self.put_back(pane) => {}
             (None, true) => {
                 let id = self.tree.tiles.insert_pane(pane.clone());
                 match self.tree.root() {
@@ -207,6 +279,86 @@ impl Layout {
             }
             _ => {}
         }
+    }
+
+    /// Where each shown pane stands now.
+    pub fn current_places(&self) -> Vec<(Pane, Place)> {
+        let tiles = &self.tree.tiles;
+        tiles
+            .tiles()
+            .filter_map(|t| match t {
+                egui_tiles::Tile::Pane(p) => tiles.find_pane(p),
+                egui_tiles::Tile::Container(_) => None,
+            })
+            .filter_map(|id| place_of(tiles, id))
+            .collect()
+    }
+
+    /// Note where the pane at `tile` stands, before it closes.
+    pub fn remember_place(&mut self, tile: TileId) {
+        if let Some((pane, place)) = place_of(&self.tree.tiles, tile) {
+            self.places.retain(|(p, _)| *p != pane);
+            self.places.push((pane, place));
+        }
+    }
+
+    /// Put a closed pane back where it stood, if its neighbour is still shown.
+    fn put_back(&mut self, pane: &Pane) -> bool {
+        let Some(place) = self
+            .places
+            .iter()
+            .find(|(p, _)| p == pane)
+            .map(|(_, place)| place.clone())
+        else {
+            return false;
+        };
+        let tiles = &self.tree.tiles;
+        let Some(anchor) = tiles.find_pane(&place.neighbour) else {
+            return false;
+        };
+        // The neighbour's tab container, or the part of the row or column it is in.
+        let mut part = anchor;
+        let mut target = None;
+        while let Some(parent) = tiles.parent_of(part) {
+            match tiles.get_container(parent) {
+                Some(egui_tiles::Container::Tabs(_)) if place.as_tab => {
+                    target = Some((parent, None));
+                    break;
+                }
+                Some(egui_tiles::Container::Linear(l)) if !place.as_tab => {
+                    let index = l.children.iter().position(|&c| c == part).unwrap_or(0);
+                    target = Some((parent, Some(index + usize::from(place.after))));
+                    break;
+                }
+                _ => part = parent,
+            }
+        }
+        let Some((container, index)) = target else {
+            return false;
+        };
+        let id = self.tree.tiles.insert_pane(pane.clone());
+        // In a row or column a pane stands in a tab container of its own, as egui_tiles puts
+        // it: wrapped here, its share sticks.
+        let part = if place.as_tab {
+            id
+        } else {
+            self.tree.tiles.insert_tab_tile(vec![id])
+        };
+        match self.tree.tiles.get_mut(container) {
+            Some(egui_tiles::Tile::Container(egui_tiles::Container::Tabs(tabs))) => {
+                tabs.add_child(id);
+            }
+            Some(egui_tiles::Tile::Container(egui_tiles::Container::Linear(l))) => {
+                let index = index.unwrap_or(0).min(l.children.len());
+                l.children.insert(index, part);
+                if let Some(share) = place.share {
+                    l.shares.set_share(part, share);
+                }
+            }
+            _ => return false,
+        }
+        self.tree.make_active(|tile, _| tile == id);
+        true
     }
 
     /// Add `pane` as a tab beside `anchor` (anywhere, when `anchor` is not shown as a tab);
@@ -385,6 +537,10 @@ pub struct Panes<'a> {
     pub log: &'a mut log::LogView,
     pub dialect_panels: &'a mut [Box<dyn DialectPanel>],
     pub out: &'a mut Vec<Command>,
+    /// Where closed panels stood ([`Layout::places`]).
+    pub places: &'a mut Vec<(Pane, Place)>,
+    /// Where each shown panel stands as the frame begins ([`Layout::current_places`]).
+    pub current_places: &'a [(Pane, Place)],
 }
 
 impl Behavior<Pane> for Panes<'_> {
@@ -424,6 +580,18 @@ impl Behavior<Pane> for Panes<'_> {
     }
 
     fn is_tab_closable(&self, _tiles: &Tiles<Pane>, _tile: TileId) -> bool {
+        true
+    }
+
+    fn on_tab_close(&mut self, tiles: &mut Tiles<Pane>, tile: TileId) -> bool {
+        // egui_tiles holds the tab's container out of `tiles` while it draws it: the place
+        // was taken before the frame.
+        if let Some(egui_tiles::Tile::Pane(pane)) = tiles.get(tile)
+            && let Some((_, place)) = self.current_places.iter().find(|(p, _)| p == pane)
+        {
+            self.places.retain(|(p, _)| p != pane);
+            self.places.push((pane.clone(), place.clone()));
+        }
         true
     }
 

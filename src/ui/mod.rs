@@ -882,6 +882,8 @@ impl ServoscopeApp {
             if self.layout.is_shown(&layout::Pane::Log) {
                 self.log.refresh(&mut self.debugger);
             }
+            self.layout.fit_timeline(timeline::height(ui.style()));
+            let current_places = self.layout.current_places();
             let mut panes = layout::Panes {
                 debugger: &self.debugger,
                 code: &mut self.code,
@@ -893,8 +895,9 @@ impl ServoscopeApp {
                 log: &mut self.log,
                 dialect_panels: &mut self.panels,
                 out: &mut commands,
+                places: &mut self.layout.places,
+                current_places: &current_places,
             };
-            self.layout.fit_timeline(timeline::height(ui.style()));
             self.layout.tree.ui(&mut panes, ui);
         });
         self.files.windows(&ctx, &self.prefs, &mut commands);
