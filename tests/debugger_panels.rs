@@ -248,3 +248,36 @@ fn the_log_opens_on_its_newest_entry() {
         "the newest entry ({newest}) is in view"
     );
 }
+
+/// Issue #22 item 15: a long watch error goes under its row; the row's Plot and × stay in view.
+#[test]
+fn a_long_watch_error_leaves_the_buttons_in_view() {
+    let mut h = harness(LOOP);
+    let long = format!("R12 + {}", "no_such_register_with_a_long_name + ".repeat(6));
+    h.state_mut().apply(
+        &egui::Context::default(),
+        Command::AddWatch(long.trim_end_matches(" + ").to_string()),
+    );
+    open_tab(&mut h, Pane::Watches);
+    h.run_steps(2);
+    let watches = h
+        .state()
+        .layout
+        .pane_rects()
+        .into_iter()
+        .find(|(p, _)| *p == Pane::Watches)
+        .map(|(_, r)| r)
+        .expect("watches shown");
+    for button in ["Plot watch 1", "Delete watch 1", "Format of watch 1"] {
+        let rect = h.get_by_label(button).rect();
+        assert!(
+            watches.contains_rect(rect),
+            "{button} at {rect:?}, panel {watches:?}"
+        );
+    }
+    let error = h.get_by_label("Error of watch 1").rect();
+    assert!(
+        error.right() <= watches.right() + 1.0,
+        "the error wraps: {error:?}"
+    );
+}
