@@ -72,12 +72,17 @@ fn product(ui: &mut egui::Ui, m: &Tml) {
     // The windows: PRODH over bits 47..16, PROD under bits 31..0; they share 31..16.
     let span = |hi: u32, lo: u32, y: f32, label: &str, colour: Color32| {
         let (x0, x1) = (x_of(hi), x_of(lo) + cell.x - 1.0);
-        painter.line_segment([egui::pos2(x0, y), egui::pos2(x1, y)], Stroke::new(2.0, colour));
-        painter.text(
-            egui::pos2((x0 + x1) / 2.0, y),
-            egui::Align2::CENTER_CENTER,
-            label,
-            egui::FontId::proportional(11.0),
+        // The line stops short of its label on both sides, never through it.
+        let galley =
+            painter.layout_no_wrap(label.to_string(), egui::FontId::proportional(11.0), colour);
+        let mid = (x0 + x1) / 2.0;
+        let half = galley.size().x / 2.0 + 2.0;
+        let stroke = Stroke::new(2.0, colour);
+        painter.line_segment([egui::pos2(x0, y), egui::pos2(mid - half, y)], stroke);
+        painter.line_segment([egui::pos2(mid + half, y), egui::pos2(x1, y)], stroke);
+        painter.galley(
+            egui::pos2(mid - galley.size().x / 2.0, y - galley.size().y / 2.0),
+            galley,
             colour,
         );
     };
