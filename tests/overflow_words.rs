@@ -186,3 +186,16 @@ fn the_trace_carries_the_words_and_exact_writes() {
     let _ = std::fs::remove_file(trace);
     let _ = std::fs::remove_file(program);
 }
+
+/// Item 8: END is credited with PSW (bit 13, program done), a CLC with ISW.
+#[test]
+fn flag_words_are_listed_as_written() {
+    let mut d = debugger("silverlode", "WRP 12, 0\nCLC INC, 12\nEND");
+    explained_after(&mut d, 2);
+    let m = d.machine();
+    assert_eq!(names(m, &m.instruction_written()), ["R12", "ISW"]);
+    explained_after(&mut d, 3);
+    let m = d.machine();
+    assert_eq!(names(m, &m.instruction_written()), ["PSW"]);
+    assert_eq!(m.read(m.find("PSW").unwrap()) >> 13 & 1, 1);
+}

@@ -434,6 +434,12 @@ impl MachineView for SilverLode {
         if sets_isw {
             out.push(Loc::new(1, 0));
         }
+        // END sets PSW bit 13 (program done).
+        if last.outcome == Outcome::Done
+            && matches!(self.program.instrs.get(last.pc as usize), Some(Instr::End))
+        {
+            out.push(Loc::new(1, 1));
+        }
         out
     }
     fn note_writes(&self, set: &mut crate::machine::WriteSet) {
