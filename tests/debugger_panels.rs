@@ -263,10 +263,7 @@ fn a_long_watch_error_leaves_the_buttons_in_view() {
     let watches = h
         .state()
         .layout
-        .pane_rects()
-        .into_iter()
-        .find(|(p, _)| *p == Pane::Watches)
-        .map(|(_, r)| r)
+        .pane_rect(&Pane::Watches)
         .expect("watches shown");
     for button in ["Plot watch 1", "Delete watch 1", "Format of watch 1"] {
         let rect = h.get_by_label(button).rect();

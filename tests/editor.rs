@@ -96,10 +96,7 @@ fn ctrl_g_goes_to_a_line() {
     let program = h
         .state()
         .layout
-        .pane_rects()
-        .into_iter()
-        .find(|(p, _)| *p == servoscope::ui::layout::Pane::Program)
-        .map(|(_, r)| r)
+        .pane_rect(&servoscope::ui::layout::Pane::Program)
         .expect("program shown");
     assert!(program.contains_rect(row), "{row:?} in {program:?}");
 

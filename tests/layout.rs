@@ -78,13 +78,7 @@ fn a_larger_window_gives_the_plot_and_queues_their_share() {
     let small = sized(1280.0, 800.0);
     let large = sized(2560.0, 1440.0);
     let rect = |h: &Harness<'_, ServoscopeApp>, pane: &Pane| {
-        h.state()
-            .layout
-            .pane_rects()
-            .into_iter()
-            .find(|(p, _)| p == pane)
-            .map(|(_, r)| r)
-            .expect("pane shown")
+        h.state().layout.pane_rect(pane).expect("pane shown")
     };
     let queues = Pane::Dialect("Queues".into());
     for pane in [&Pane::Plot, &queues, &Pane::Program] {
@@ -256,10 +250,7 @@ fn go_to_tick_stays_in_view_with_seven_digit_ticks() {
     let timeline = h
         .state()
         .layout
-        .pane_rects()
-        .into_iter()
-        .find(|(p, _)| *p == Pane::Timeline)
-        .map(|(_, r)| r)
+        .pane_rect(&Pane::Timeline)
         .expect("timeline shown");
     let field = h.get_by_label("Go to tick").rect();
     assert!(
@@ -380,10 +371,7 @@ fn the_queue_header_decode_is_in_view_at_the_default_size() {
     let queues = h
         .state()
         .layout
-        .pane_rects()
-        .into_iter()
-        .find(|(p, _)| *p == Pane::Dialect("Queues".into()))
-        .map(|(_, r)| r)
+        .pane_rect(&Pane::Dialect("Queues".into()))
         .expect("queues shown");
     for label in ["size = 4", "len = 2", "head = 2", "tail = 0"] {
         let rect = h.get_by_label(label).rect();
@@ -457,10 +445,7 @@ fn the_register_columns_fit_their_panel_at_any_size() {
         let panel = h
             .state()
             .layout
-            .pane_rects()
-            .into_iter()
-            .find(|(p, _)| *p == Pane::Registers)
-            .map(|(_, r)| r)
+            .pane_rect(&Pane::Registers)
             .expect("registers shown");
         for title in ["Location", "Name", "Value", "Hex"] {
             let rect = h.get_by_label(title).rect();
@@ -488,14 +473,7 @@ fn the_register_columns_fit_their_panel_at_any_size() {
 #[test]
 fn a_reopened_panel_comes_back_where_it_was() {
     let mut h = harness_sized(ServoscopeApp::new(Prefs::default()), 1280.0, 800.0);
-    let rect_of = |h: &Harness<'_, ServoscopeApp>, pane: &Pane| {
-        h.state()
-            .layout
-            .pane_rects()
-            .into_iter()
-            .find(|(p, _)| p == pane)
-            .map(|(_, r)| r)
-    };
+    let rect_of = |h: &Harness<'_, ServoscopeApp>, pane: &Pane| h.state().layout.pane_rect(pane);
     // A tab: Watches, closed by its ×, reopened from View, is a tab beside Bits again.
     h.get_by_label("Watches").click();
     h.run_steps(2);

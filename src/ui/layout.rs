@@ -243,6 +243,14 @@ impl Layout {
     }
 
     /// Each shown pane with where it was drawn in the last frame.
+    /// Where `pane` was drawn last, if it is shown.
+    pub fn pane_rect(&self, pane: &Pane) -> Option<egui::Rect> {
+        self.pane_rects()
+            .into_iter()
+            .find(|(p, _)| p == pane)
+            .map(|(_, r)| r)
+    }
+
     pub fn pane_rects(&self) -> Vec<(Pane, egui::Rect)> {
         self.tree
             .tiles
