@@ -156,8 +156,8 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
             let target = app.code.target_line(&app.debugger);
             let words = app.debugger.dialect().vocabulary;
             let (step, step_back) = (
-                format!("Step over ({} a call runs whole)", words.step),
-                format!("Step back over ({} a call runs whole)", words.step),
+                format!("Step over (one {}; a call runs whole)", words.step),
+                format!("Step back over (one {}; a call runs whole)", words.step),
             );
             let (into, back_into) = (
                 format!("Step into (one {})", words.step),
