@@ -1265,6 +1265,36 @@ fn a_dl205_scan_steps_through_the_stack_panel() {
     h.get_by_label("At scan 0");
 }
 
+/// Issue #22 item 16: before the first scan the PLC is not running, so neither SP0 (first scan)
+/// nor SP1 (always on) is lit; once scan 0 starts both are on, and from scan 1 only SP1.
+#[test]
+fn sp0_and_sp1_are_unlit_before_the_first_scan() {
+    let dl205 = servoscope::machine::registry::by_name("dl205").expect("registered");
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.load_program_as(dl205, "sp.dl205", "STR X0\nOUT Y0\nEND");
+    let mut h = harness(app);
+    h.get_by_label("SP0 not driven before the first scan");
+    h.get_by_label("SP1 not driven before the first scan");
+    let chip = |h: &Harness<'static, ServoscopeApp>, name: &str| {
+        egui_kittest::kittest::NodeT::accesskit_node(&h.get_by_label(name)).toggled()
+            == Some(egui::accesskit::Toggled::True)
+    };
+    h.key_press(Key::F11);
+    h.run_steps(2);
+    assert!(
+        chip(&h, "SP0") && chip(&h, "SP1"),
+        "scan 0: first scan and always on"
+    );
+    h.state_mut().debugger.goto_tick(1);
+    h.run_steps(2);
+    h.key_press(Key::F11);
+    h.run_steps(2);
+    assert!(
+        !chip(&h, "SP0") && chip(&h, "SP1"),
+        "scan 1: only always on"
+    );
+}
+
 #[test]
 fn a_session_with_a_breakpoint_past_the_end_opens_and_says_what_it_dropped() {
     let dir = std::env::temp_dir().join(format!("servoscope-gui-far-{}", std::process::id()));

@@ -338,6 +338,14 @@ pub trait MachineView: Send + 'static {
         Vec::new()
     }
 
+    /// Status relays the PLC itself drives at the start of every scan (DL205's SP0 first scan
+    /// and SP1 always on). Before the first scan starts the window draws them as not driven
+    /// yet, as the vendor's tool shows a PLC that is not running; the state itself keeps the
+    /// spec's initial values (the runner's `--max-ticks 0` reports SP1 = 1).
+    fn driven_by_scan(&self, _loc: Loc) -> bool {
+        false
+    }
+
     /// The controller's error lamp (OpenNet's M8004): "break on error" stops when it turns on.
     fn error_lamp(&self) -> bool {
         false

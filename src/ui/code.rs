@@ -108,79 +108,90 @@ fn color(p: &Palette, kind: TokenClass) -> egui::Color32 {
     }
 }
 
-/// The whole text as a coloured layout, errors underlined. The job's text is exactly `text`.
+/// The whole text as a coloured layout. The job's text is exactly `text`. Errors are
+/// underlined apart, by [`error_underlines`].
 pub fn highlight(
     text: &str,
     classify: fn(&str) -> Vec<TokenClass>,
-    diagnostics: &[Diagnostic],
     p: &Palette,
     font: &FontId,
 ) -> LayoutJob {
     let mut job = LayoutJob::default();
-    // Diagnostics in line order, walked alongside the lines: linear however many there are.
-    let mut sorted: Vec<&Diagnostic> = diagnostics.iter().collect();
-    sorted.sort_by_key(|d| d.line);
-    let mut next = 0;
-    for (index, line) in text.split_inclusive('\n').enumerate() {
-        let number = index + 1;
-        while sorted.get(next).is_some_and(|d| d.line < number) {
-            next += 1;
-        }
-        let on_line = sorted[next..]
-            .iter()
-            .take_while(|d| d.line == number)
-            .copied();
-        append_line(&mut job, line, classify, on_line, p, font);
+    for line in text.split_inclusive('\n') {
+        append_line(&mut job, line, classify, p, font);
     }
     job.wrap.max_width = f32::INFINITY;
     job
 }
 
-/// One line (with its line ending, if any) coloured by class, its errors underlined.
-pub fn append_line<'a>(
+/// One line (with its line ending, if any) coloured by class.
+pub fn append_line(
     job: &mut LayoutJob,
     line: &str,
     classify: fn(&str) -> Vec<TokenClass>,
-    errors: impl Iterator<Item = &'a Diagnostic>,
     p: &Palette,
     font: &FontId,
 ) {
     let body = line.strip_suffix('\n').unwrap_or(line);
     let body = body.strip_suffix('\r').unwrap_or(body);
     let kinds = classify(body);
-    let mut error = vec![false; kinds.len()];
-    for d in errors {
-        let start = (d.col - 1).min(error.len());
-        let end = (start + d.len).min(error.len());
-        error[start..end].fill(true);
-    }
     let chars: Vec<(usize, char)> = line.char_indices().collect();
     let mut start = 0;
     while start < chars.len() {
-        let style = |i: usize| (kinds.get(i).copied(), error.get(i).copied());
+        let kind = |i: usize| kinds.get(i).copied();
         let mut end = start + 1;
-        while end < chars.len() && style(end) == style(start) {
+        while end < chars.len() && kind(end) == kind(start) {
             end += 1;
         }
         let from = chars[start].0;
         let to = chars.get(end).map_or(line.len(), |&(b, _)| b);
-        let (kind, is_error) = style(start);
         job.append(
             &line[from..to],
             0.0,
             TextFormat {
                 font_id: font.clone(),
-                color: color(p, kind.unwrap_or(TokenClass::Plain)),
-                underline: if is_error == Some(true) {
-                    Stroke::new(2.0, p.error)
-                } else {
-                    Stroke::NONE
-                },
+                color: color(p, kind(start).unwrap_or(TokenClass::Plain)),
                 ..Default::default()
             },
         );
         start = end;
     }
+}
+
+/// Each error of `diagnostics` on the lines `visible` as a 2-px line along the bottom of its
+/// own row, inside it. (The text layout's underline straddles the row's lower edge: a line
+/// scrolled just out of view left a red stroke on the line below it, issue #22 item 13.)
+/// `galley`, drawn at `origin`, has one row per line, its first row being `first_line`.
+pub fn error_underlines(
+    galley: &egui::Galley,
+    origin: egui::Pos2,
+    first_line: usize,
+    diagnostics: &[Diagnostic],
+    visible: std::ops::Range<usize>,
+    color: egui::Color32,
+) -> Vec<egui::Shape> {
+    use egui::epaint::text::CharIndex;
+    let from = diagnostics.partition_point(|d| d.line < visible.start);
+    diagnostics[from..]
+        .iter()
+        .take_while(|d| d.line < visible.end)
+        .filter_map(|d| {
+            let row = galley.rows.get(d.line.checked_sub(first_line)?)?;
+            let glyphs = row.glyphs.len();
+            let start = d.col.saturating_sub(1).min(glyphs);
+            let end = (start + d.len).min(glyphs);
+            if start >= end {
+                return None;
+            }
+            let rect = row.rect().translate(origin.to_vec2());
+            let y = rect.bottom() - 1.0;
+            let x = |i: usize| rect.left() + row.x_offset(CharIndex(i));
+            Some(egui::Shape::line_segment(
+                [pos2(x(start), y), pos2(x(end), y)],
+                Stroke::new(2.0, color),
+            ))
+        })
+        .collect()
 }
 
 /// The character index of `line`:`col` (1-based), kept inside that line.
@@ -476,10 +487,9 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                 // the text is laid out: keep their place in the paint order now, fill it after.
                 let backgrounds = ui.painter().add(egui::Shape::Noop);
 
-                let diagnostics = debugger.diagnostics();
                 let classify = debugger.dialect().classify;
                 let mut layouter = |ui: &egui::Ui, buf: &dyn egui::TextBuffer, _wrap: f32| {
-                    let job = highlight(buf.as_str(), classify, diagnostics, &p, &font);
+                    let job = highlight(buf.as_str(), classify, &p, &font);
                     ui.fonts_mut(|f| f.layout_job(job))
                 };
                 let output = egui::TextEdit::multiline(&mut text)
@@ -515,6 +525,15 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                         })
                         .collect();
                 ui.painter().set(backgrounds, egui::Shape::Vec(fills));
+                let clip = ui.clip_rect();
+                ui.painter().extend(error_underlines(
+                    &output.galley,
+                    output.galley_pos,
+                    1,
+                    debugger.diagnostics(),
+                    rows.visible(clip.top(), clip.bottom()),
+                    p.error,
+                ));
                 let scroll_to = jump.map(|j| j.line).or_else(|| pc_moved(view, pc_line));
                 if let Some(rect) = scroll_to.and_then(|line| rows.rect(line)) {
                     // Two lines of margin, so the line never hides under a scroll bar.
@@ -540,7 +559,8 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                 if let Some(pos) = output.response.hover_pos()
                     && let Some(line) = rows.line_at(pos.y)
                 {
-                    let messages: Vec<String> = diagnostics
+                    let messages: Vec<String> = debugger
+                        .diagnostics()
                         .iter()
                         .filter(|d| d.line == line)
                         .map(|d| format!("{}:{}: {}", d.line, d.col, d.message))
@@ -926,10 +946,17 @@ fn gutter_ui(
 /// The problems list: every diagnostic; clicking one moves the cursor to its line.
 fn problems(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView) {
     let p = palette(ui.visuals().dark_mode);
-    egui::Panel::bottom("problems")
+    // As tall as its rows (up to six), never more than half the pane: one error must not take
+    // the room of the program it is about. A new panel per row count, so it refits when the
+    // count changes; a size the user dragged holds while it stays the same.
+    let rows_shown = debugger.diagnostics().len().min(6);
+    let row_height = ui.spacing().interact_size.y + ui.spacing().item_spacing.y;
+    let fit = row_height * (rows_shown as f32 + 1.0) + 12.0;
+    egui::Panel::bottom(Id::unique(("problems", rows_shown)))
         .resizable(true)
-        .default_size(120.0)
-        .min_size(60.0)
+        .default_size(fit)
+        .min_size(fit.min(60.0))
+        .max_size((ui.available_height() * 0.5).max(fit.min(60.0)))
         .show(ui, |ui| {
             ui.horizontal(|ui| {
                 ui.strong(format!("Problems ({})", debugger.diagnostics().len()));
@@ -940,7 +967,7 @@ fn problems(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView) {
             // Only the visible rows are laid out: a file with 100,000 errors stays responsive.
             egui::ScrollArea::vertical()
                 .id_salt("problems_scroll")
-                .auto_shrink([false, false])
+                .auto_shrink([false, true])
                 .show_rows(ui, row_height, diagnostics.len(), |ui, rows| {
                     for d in &diagnostics[rows] {
                         let text = format!(
@@ -975,23 +1002,49 @@ mod tests {
     #[test]
     fn highlight_keeps_the_text_exactly() {
         let text = "WRP 11, 1\r\n\nbad: BOGUS ; x\nü\n";
+        let classify = crate::machine::silverlode::syntax::classify;
+        let job = highlight(text, classify, &palette(true), &FontId::monospace(12.0));
+        assert_eq!(job.text, text);
+    }
+
+    /// Issue #22 item 13: an error's underline lies inside its own row, under its own columns,
+    /// so a line scrolled out of view leaves nothing on the line below it.
+    #[test]
+    fn error_underlines_stay_inside_their_row() {
+        let text = "WRP 11, 1\n\nbad: BOGUS ; x\nEND\n";
         let diags = vec![Diagnostic::error(3, 6, 5, "unknown")];
         let classify = crate::machine::silverlode::syntax::classify;
-        let job = highlight(
-            text,
-            classify,
-            &diags,
-            &palette(true),
-            &FontId::monospace(12.0),
+        let ctx = egui::Context::default();
+        let mut shapes = Vec::new();
+        let mut rows = Vec::new();
+        let mut output = ctx.run_ui(egui::RawInput::default(), |ui| {
+            let job = highlight(text, classify, &palette(true), &FontId::monospace(12.0));
+            let galley = ui.fonts_mut(|f| f.layout_job(job));
+            let origin = pos2(10.0, 20.0);
+            rows = galley
+                .rows
+                .iter()
+                .map(|r| r.rect().translate(origin.to_vec2()))
+                .collect();
+            shapes = error_underlines(&galley, origin, 1, &diags, 1..5, egui::Color32::RED);
+            assert!(
+                error_underlines(&galley, origin, 1, &diags, 4..5, egui::Color32::RED).is_empty()
+            );
+        });
+        output.textures_delta.clear();
+        assert_eq!(shapes.len(), 1);
+        let bounds = shapes[0].visual_bounding_rect();
+        let row = rows[2];
+        assert!(
+            bounds.top() >= row.top() && bounds.bottom() <= row.bottom(),
+            "{bounds:?} leaves row {row:?}"
         );
-        assert_eq!(job.text, text);
-        let underlined: String = job
-            .sections
-            .iter()
-            .filter(|s| s.format.underline != Stroke::NONE)
-            .map(|s| &job.text[s.byte_range.start.0..s.byte_range.end.0])
-            .collect();
-        assert_eq!(underlined, "BOGUS");
+        let egui::Shape::LineSegment { points, .. } = shapes[0] else {
+            panic!("a line");
+        };
+        let char_width = row.width() / "bad: BOGUS ; x".len() as f32;
+        assert!((points[0].x - (row.left() + 5.0 * char_width)).abs() < 0.5);
+        assert!((points[1].x - points[0].x - 5.0 * char_width).abs() < 0.5);
     }
 
     #[test]

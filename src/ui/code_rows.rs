@@ -8,7 +8,7 @@ use egui::text::LayoutJob;
 use egui::{Id, Rect, RichText, Sense, Stroke, TextStyle, Vec2, pos2, vec2};
 
 use super::Command;
-use super::code::{CodeView, append_line};
+use super::code::{CodeView, append_line, error_underlines};
 use super::theme::palette;
 use crate::debugger::Debugger;
 use crate::machine::Diagnostic;
@@ -157,8 +157,16 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
             // The text, coloured; click to put the cursor on the line.
             let text = view.lines.line(line);
             let mut job = LayoutJob::default();
-            append_line(&mut job, text, classify, errors.iter(), &p, &font);
+            append_line(&mut job, text, classify, &p, &font);
             let galley = ui.fonts_mut(|f| f.layout_job(job));
+            ui.painter().extend(error_underlines(
+                &galley,
+                text_rect.left_top(),
+                line,
+                errors,
+                line..line + 1,
+                p.error,
+            ));
             ui.painter().galley(text_rect.left_top(), galley, p.text);
             let response = ui.interact(text_rect, Id::unique(("code_line", line)), Sense::click());
             let body = text.trim_end_matches(['\n', '\r']);

@@ -210,7 +210,7 @@ impl Layout {
         set_shares(
             &mut tiles,
             left,
-            &[(program, 1.0), (timeline, 0.2), (lower, 1.0)],
+            &[(program, 1.4), (timeline, 0.2), (lower, 1.0)],
         );
         set_shares(&mut tiles, right, &[(registers, 3.0), (bits, 2.0)]);
         // The plot is the widest thing down there.

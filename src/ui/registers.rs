@@ -183,8 +183,31 @@ fn flags(ui: &mut egui::Ui, debugger: &Debugger, out: &mut Vec<Command>) {
             continue;
         }
         let locs = (0..space.len).map(|i| Loc::new(s as u8, i));
+        // Before the first scan the PLC is not running: the relays its scan drives are neither
+        // on nor off yet (issue #22 item 16).
+        let not_started = m.pos().tick == 0 && m.pos().step == 0;
         let mut chip =
             |ui: &mut egui::Ui, loc: Loc, bit: u8, name: &str, tip: String, label: String| {
+                if not_started && m.driven_by_scan(loc) {
+                    let text = RichText::new(name).size(12.0).color(p.dim);
+                    let r = ui.add_enabled(
+                        false,
+                        egui::Button::new(text)
+                            .fill(egui::Color32::TRANSPARENT)
+                            .min_size(Vec2::ZERO),
+                    );
+                    r.widget_info(|| {
+                        egui::WidgetInfo::labeled(
+                            egui::Role::Label,
+                            false,
+                            format!("{label} not driven before the first scan"),
+                        )
+                    });
+                    r.on_disabled_hover_text(format!(
+                        "{tip}: not driven yet, the PLC has not started its first scan"
+                    ));
+                    return;
+                }
                 let on = m.read(loc) >> bit & 1 == 1;
                 // Readable at any window size (`small` was ~8 px at 1920×1080).
                 let text = RichText::new(name).size(12.0).color(if on {

@@ -319,6 +319,10 @@ impl MachineView for Dl205 {
             .map(|i| i.line)
     }
     /// SP53 (divide by zero) or SP75 (a non-BCD digit): the DL205's own error flags.
+    fn driven_by_scan(&self, loc: Loc) -> bool {
+        use super::program::sp::{SP0, SP1};
+        loc.space == SP && [SP0, SP1].contains(&(loc.index as usize))
+    }
     fn error_lamp(&self) -> bool {
         self.sp[super::program::sp::SP53] || self.sp[super::program::sp::SP75]
     }
