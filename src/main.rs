@@ -54,6 +54,10 @@ struct RunArgs {
     /// Give a location an initial value before the first tick, e.g. R26=-5. Repeatable.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     sets: Vec<String>,
+    /// A setting of the dialect's model, e.g. scan_ms=20 (PLCs) or a servo model key.
+    /// Repeatable.
+    #[arg(long = "setting", value_name = "KEY=VALUE")]
+    settings: Vec<String>,
     /// Print exactly one JSON object on stdout.
     #[arg(long)]
     json: bool,
@@ -174,6 +178,7 @@ fn run(args: &RunArgs) -> Result<u8, String> {
         max_ticks,
         inputs,
         sets,
+        settings: given_settings,
         json,
         save_session,
         force,
@@ -188,7 +193,17 @@ fn run(args: &RunArgs) -> Result<u8, String> {
             "--input and --set cannot be combined with a session (its edits are in it)".to_string(),
         );
     }
-    let settings = start.dialect.settings_from(&start.settings);
+    if start.session.is_some() && !given_settings.is_empty() {
+        return Err(
+            "--setting cannot be combined with a session (its settings are in it)".to_string(),
+        );
+    }
+    let mut settings = start.settings.clone();
+    for text in given_settings {
+        let (key, value) = start.dialect.parse_setting(text)?;
+        settings.insert(key, value);
+    }
+    let settings = start.dialect.settings_from(&settings);
     let engine = match (start.dialect.open)(&start.source, &settings) {
         Ok(engine) => engine,
         Err(diagnostics) => {

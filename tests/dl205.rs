@@ -344,21 +344,21 @@ fn comparisons_are_unsigned_16_bit() {
 
 #[test]
 fn every_error_class_with_line_and_column() {
-    let src = "STR X1\nLDD V1983\nTMR T0 K10\nOUT X1\nINC V0\nLD K12345\nADDD KA\nSET C5 C2\nLDF X1776 K5\nSTR SP3\nLDD V37777\nDIV K0\nSTR T0\nSTRR X1\nLD\n";
+    let src = "STR X1\nLDD V1983\nDRUM T0 K10\nOUT X1\nINC V0\nLD K12345\nADDD KA\nSET C5 C2\nLDF X1776 K5\nSTR SP77\nLDD V37777\nDIV K0\nSTR GX0\nSTRR X1\nLD\n";
     let e = errors(src);
     let expect = [
         "2:5: error: V1983: element numbers are octal",
-        "3:1: error: TMR is a DL205 instruction not supported by servoscope yet",
+        "3:1: error: DRUM is a DL205 instruction not supported by servoscope yet",
         "4:5: error: X1 cannot be written",
         "5:1: error: unknown mnemonic 'INC' (did you mean INCB?)",
         "6:4: error: K12345 is out of range",
         "7:6: error: KA is not BCD",
         "8:8: error: SET range C5–C2 must stay in one kind and run upwards",
         "9:11: error: X1776 with K5 runs past the last X element",
-        "10:5: error: SP3 is a special relay not supported by servoscope yet",
+        "10:5: error: SP77 is a special relay not supported by servoscope yet",
         "11:5: error: V37777 and the next word run past V37777",
         "12:5: error: K0 is out of range",
-        "13:5: error: T0 is one of the timers",
+        "13:5: error: GX0 is one of the remote I/O bits",
         "14:1: error: unknown mnemonic 'STRR' (did you mean STR?)",
         "15:1: error: LD takes 1 operand(s), found 0",
     ];
@@ -446,7 +446,8 @@ fn the_runner_speaks_dl205() {
     );
     assert_eq!(j["bits"]["X0"], 1);
     assert_eq!(j["stack_depth"], 0);
-    assert_eq!(j["flags"].as_object().unwrap().len(), 11);
+    // The twenty relays of §4.
+    assert_eq!(j["flags"].as_object().unwrap().len(), 20);
     for key in ["ACC", "L1", "L8"] {
         assert!(j["registers"][key].is_u64(), "{key}");
     }

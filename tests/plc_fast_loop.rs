@@ -251,7 +251,8 @@ fn opennet(src: &str) -> Option<servoscope::machine::opennet::OpenNet> {
 
 fn dl_contact_bit() -> impl Strategy<Value = &'static str> {
     prop::sample::select(vec![
-        "X0", "X1", "Y0", "C0", "C1", "SP0", "SP1", "SP63", "SP66", "SP75",
+        "X0", "X1", "Y0", "C0", "C1", "SP0", "SP1", "SP63", "SP66", "SP75", "T1", "CT2", "S0",
+        "SP4", "SP5", "SP7", "SP61",
     ])
 }
 
@@ -266,6 +267,8 @@ fn dl_contact(kind: &'static str) -> impl Strategy<Value = String> {
         3 => (prop::sample::select(vec!["", "N"]), dl_contact_bit())
             .prop_map(move |(n, b)| format!("{kind}{n} {b}")),
         1 => compare.prop_map(move |(c, a, b)| format!("{kind}{c} {a} {b}")),
+        1 => (prop::sample::select(vec!["PD", "ND"]), dl_contact_bit())
+            .prop_map(move |(e, b)| format!("{kind}{e} {b}")),
     ]
 }
 
@@ -273,7 +276,17 @@ fn dl_output() -> impl Strategy<Value = String> {
     prop_oneof![
         3 => prop::sample::select(vec![
             "OUT Y0", "OUT C0", "OUT C1", "SET C2", "RST C2", "SET Y1 Y3", "RST Y0 Y1",
+            "PD C3", "PD Y2", "OROUT Y4", "OROUT C1", "OUT S0", "SET S1", "RST S0 S1", "RST T1",
+            "RST CT2", "RST T0 T3",
         ]).prop_map(str::to_string),
+        2 => prop::sample::select(vec![
+            "CMP V0", "CMP K1234", "CMPD V2", "CMPD K5", "INV",
+        ]).prop_map(str::to_string),
+        2 => (prop::sample::select(vec!["TMR", "TMRF", "SGCNT"]), 0u32..12, prop::sample::select(vec!["K3", "K0", "V0", "K9999"]))
+            .prop_map(|(m, n, p)| {
+                let t = if m == "SGCNT" { "CT" } else { "T" };
+                format!("{m} {t}{n:o} {p}")
+            }),
         6 => prop::sample::select(vec![
             "LD V0", "LD K1234", "LD K12", "LDD V2", "LDD K12345678", "LDA O17", "LDF X0 K8",
             "OUT V4", "OUT V0", "OUTD V2", "OUTD V6", "OUTF C10 K4", "POP",
@@ -309,8 +322,32 @@ fn dl_rung() -> impl Strategy<Value = String> {
         })
 }
 
+/// A multi-input box: each leg its own STR (spec §2), the box alone at the end of its rung.
+fn dl_box_rung() -> impl Strategy<Value = String> {
+    (
+        prop::sample::select(vec![("TMRA", 2), ("TMRAF", 2), ("CNT", 2), ("UDC", 3)]),
+        prop::collection::vec(dl_contact("STR"), 3),
+        0u32..6,
+        prop::sample::select(vec!["K3", "K0", "K30", "V2"]),
+    )
+        .prop_map(|((m, legs), contacts, n, preset)| {
+            let (t, n) = match m {
+                "CNT" => ("CT", 20 + n),
+                "UDC" => ("CT", 40 + 2 * n),
+                _ => ("T", 20 + 2 * n),
+            };
+            let preset = if preset == "V2" && m == "CNT" {
+                "V0"
+            } else {
+                preset
+            };
+            format!("{}\n{m} {t}{n:o} {preset}\n", contacts[..legs].join("\n"))
+        })
+}
+
 fn dl_program() -> impl Strategy<Value = String> {
-    prop::collection::vec(dl_rung(), 1..6).prop_map(|rungs| rungs.concat() + "END\n")
+    prop::collection::vec(prop_oneof![4 => dl_rung(), 1 => dl_box_rung()], 1..6)
+        .prop_map(|rungs| rungs.concat() + "END\n")
 }
 
 fn dl205(src: &str) -> Option<servoscope::machine::dl205::Dl205> {

@@ -13,6 +13,7 @@
 //! steps back and edits between them: `(t, 3)` is "scan t, after its third instruction".
 
 pub mod diagnostics;
+pub mod plc;
 pub mod registry;
 pub mod value;
 

@@ -184,6 +184,42 @@ impl Dialect {
     pub fn default_settings(&self) -> Settings {
         self.settings_from(&Settings::new())
     }
+
+    /// One `KEY=VALUE` of the runner's `--setting`: a key this dialect has and a value in its
+    /// range (whole when the setting is). Out of range is an error here, not clamped: a
+    /// script asking for 5000 ms scans must hear it got something else.
+    pub fn parse_setting(&self, text: &str) -> Result<(String, f64), String> {
+        let Some((key, value)) = text.split_once('=') else {
+            return Err(format!("--setting {text}: expected KEY=VALUE"));
+        };
+        let (key, value) = (key.trim(), value.trim());
+        let known = || {
+            let keys: Vec<&str> = self.settings.iter().map(|s| s.key).collect();
+            if keys.is_empty() {
+                format!("{} has no settings", self.display_name)
+            } else {
+                format!("{} settings: {}", self.display_name, keys.join(", "))
+            }
+        };
+        let Some(info) = self.settings.iter().find(|s| s.key == key) else {
+            return Err(format!("--setting {key}: no such setting ({})", known()));
+        };
+        let number: f64 = value
+            .parse()
+            .ok()
+            .filter(|v: &f64| v.is_finite())
+            .ok_or_else(|| format!("--setting {key}={value}: not a number"))?;
+        if info.integer && number.fract() != 0.0 {
+            return Err(format!("--setting {key}={value}: a whole number is needed"));
+        }
+        if number < info.min || number > info.max {
+            return Err(format!(
+                "--setting {key}={value}: out of range ({}–{})",
+                info.min, info.max
+            ));
+        }
+        Ok((key.to_string(), number))
+    }
 }
 
 impl std::fmt::Debug for Dialect {

@@ -2,7 +2,8 @@
 //! once; the rung-structure checks run only when every line is valid.
 
 use super::program::{
-    Bit, Cmp, D, Instr, Kind, Logic, Math, Op, Program, SPECIAL, ShiftKind, Src, Test, W,
+    Bit, BoxDecl, Cmp, CounterKind, D, Edge, Instr, Kind, Logic, Math, Op, Preset, Program,
+    SPECIAL, ShiftKind, Src, Test, TimerKind, W, box_shape, current_word,
 };
 use crate::machine::Diagnostic;
 use crate::machine::diagnostics::Suggester;
@@ -13,14 +14,14 @@ pub const MNEMONICS: &[&str] = &[
     "OUTF", "POP", "ADD", "SUB", "ADDD", "SUBD", "ADDS", "SUBS", "MUL", "MULS", "MULD", "DIV",
     "DIVD", "DIVS", "ADDB", "ADDBD", "ADDBS", "SUBB", "SUBBD", "SUBBS", "MULB", "MULBS", "DIVB",
     "DIVBS", "INCB", "DECB", "BIN", "BCD", "XOR", "ANDD", "ORD", "XORD", "ANDS", "ORS", "XORS",
-    "SHFL", "SHFR", "ROTL", "ROTR",
+    "SHFL", "SHFR", "ROTL", "ROTR", "NOT", "STRPD", "STRND", "ANDPD", "ANDND", "ORPD", "ORND",
+    "PD", "OROUT", "INV", "CMP", "CMPD", "TMR", "TMRF", "TMRA", "TMRAF", "CNT", "SGCNT", "UDC",
 ];
 
 pub const UNSUPPORTED: &[&str] = &[
-    "TMR", "TMRF", "TMRA", "TMRAF", "CNT", "UDC", "SGCNT", "DRUM", "EDRUM", "MDRMD", "MDRMW", "PD",
-    "STRPD", "STRND", "ANDPD", "ANDND", "ORPD", "ORND", "NOT", "OROUT", "OROUTN", "STRI", "STRNI",
-    "ANDI", "ANDNI", "ORI", "ORNI", "OUTI", "SETI", "RSTI", "LDI", "LDIF", "OUTIF", "CMP", "CMPD",
-    "CMPS", "CMPR", "CMPF", "INV", "ENCO", "DECO", "SUM", "LDX", "LDSX", "OUTX", "OUTL", "LDR",
+    "DRUM", "EDRUM", "MDRMD", "MDRMW", "OROUTN", "STRI", "STRNI",
+    "ANDI", "ANDNI", "ORI", "ORNI", "OUTI", "SETI", "RSTI", "LDI", "LDIF", "OUTIF",
+    "CMPS", "CMPR", "CMPF", "ENCO", "DECO", "SUM", "LDX", "LDSX", "OUTX", "OUTL", "LDR",
     "ADDR", "SUBR", "MULR", "DIVR", "ADDF", "SUBF", "MULF", "DIVF", "ANDF", "ORF", "XORF", "SQRTR",
     "MOV", "MOVMC", "LDLBL", "BCDCPL", "BTOR", "RTOB", "ATH", "HTA", "SEG", "GRAY", "SFLDGT",
     "SWAP", "TTD", "RTD", "SBR", "RT", "RTC", "GTS", "GOTO", "LBL", "FOR", "NEXT", "MLS", "MLR",
@@ -68,9 +69,6 @@ fn split(t: &Tok) -> (String, &str) {
 
 fn unsupported_element(letters: &str) -> Option<&'static str> {
     Some(match letters {
-        "T" | "TA" => "timers",
-        "CT" | "CTA" => "counters",
-        "S" => "stages",
         "GX" | "GY" => "remote I/O bits",
         "P" => "pointers",
         _ => return None,
@@ -84,11 +82,14 @@ fn bit(t: &Tok, program: &mut Program) -> Result<Bit, Error> {
         "Y" => Kind::Y,
         "C" => Kind::C,
         "SP" => Kind::Sp,
+        "S" => Kind::S,
+        "T" => Kind::T,
+        "CT" => Kind::Ct,
         other => {
             if let Some(what) = unsupported_element(other) {
                 return err(t.col, format!("{} is one of the {what}, not supported by servoscope yet", t.text));
             }
-            return err(t.col, format!("'{}' is not a bit element (X, Y, C or SP)", t.text));
+            return err(t.col, format!("'{}' is not a bit element (X, Y, C, S, T, CT or SP)", t.text));
         }
     };
     let n = octal(digits, t)?;
@@ -108,10 +109,18 @@ fn bit(t: &Tok, program: &mut Program) -> Result<Bit, Error> {
 
 fn v_addr(t: &Tok, pair: bool, program: &mut Program) -> Result<u32, Error> {
     let (letters, digits) = split(t);
-    if letters != "V" {
-        return err(t.col, format!("'{}' is not a V-memory word", t.text));
-    }
-    let n = octal(digits, t)?;
+    let n = match letters.as_str() {
+        "V" => octal(digits, t)?,
+        // Timer and counter current values by their DirectSOFT names.
+        "TA" | "CTA" => {
+            let n = octal(digits, t)?;
+            if n >= Kind::T.count() {
+                return err(t.col, format!("{} is out of range ({letters}0–{letters}377)", t.text));
+            }
+            current_word(if letters == "TA" { Kind::T } else { Kind::Ct }, n)
+        }
+        _ => return err(t.col, format!("'{}' is not a V-memory word", t.text)),
+    };
     if (0o40000..=0o41237).contains(&n) {
         return err(t.col, format!("{} is a bit-mapped/system word, not supported by servoscope yet", t.text));
     }
@@ -141,9 +150,15 @@ fn is_bcd(v: u32) -> bool {
     (0..8).all(|i| v >> (4 * i) & 0xF <= 9)
 }
 
+/// Whether a token names a V word (Vn, TAn, CTAn) rather than a constant.
+fn is_word(t: &Tok) -> bool {
+    let (letters, _) = split(t);
+    matches!(letters.as_str(), "V" | "TA" | "CTA")
+}
+
 /// A 16-bit source: V, or K up to `max` (BCD-checked when `bcd`).
 fn word(t: &Tok, allow_k: bool, bcd: bool, min: u32, max: u32, program: &mut Program) -> Result<W, Error> {
-    if t.text.to_ascii_uppercase().starts_with('V') {
+    if is_word(t) {
         return v_addr(t, false, program).map(W::V);
     }
     if !allow_k {
@@ -162,7 +177,7 @@ fn word(t: &Tok, allow_k: bool, bcd: bool, min: u32, max: u32, program: &mut Pro
 }
 
 fn double(t: &Tok, allow_k: bool, bcd: bool, program: &mut Program) -> Result<D, Error> {
-    if t.text.to_ascii_uppercase().starts_with('V') {
+    if is_word(t) {
         return v_addr(t, true, program).map(D::V);
     }
     if !allow_k {
@@ -187,6 +202,15 @@ fn count(t: &Tok) -> Result<u8, Error> {
         Ok(n) if (1..=32).contains(&n) => Ok(n),
         _ => err(t.col, format!("{} is out of range (K1–K32)", t.text)),
     }
+}
+
+/// The bit a coil (OUT, PD, OROUT) writes: Y, C or S.
+fn coil(t: &Tok, mnemonic: &str, program: &mut Program) -> Result<Bit, Error> {
+    let b = bit(t, program)?;
+    if !matches!(b.kind, Kind::Y | Kind::C | Kind::S) {
+        return err(t.col, format!("{} cannot be written: {mnemonic} needs Y, C or S", t.text));
+    }
+    Ok(b)
 }
 
 fn instruction(ts: &[Tok], program: &mut Program, suggester: &Suggester) -> Result<Op, Error> {
@@ -230,7 +254,7 @@ fn instruction(ts: &[Tok], program: &mut Program, suggester: &Suggester) -> Resu
     };
     Ok(match m.as_str() {
         "STR" | "STRN" => Op::Str(contact(program, m == "STRN", None)?),
-        "AND" | "OR" | "XOR" if args.len() == 1 && args[0].text.to_ascii_uppercase().starts_with('V') => {
+        "AND" | "OR" | "XOR" if args.len() == 1 && is_word(&args[0]) => {
             let logic = match m.as_str() {
                 "AND" => Logic::And,
                 "OR" => Logic::Or,
@@ -267,9 +291,8 @@ fn instruction(ts: &[Tok], program: &mut Program, suggester: &Suggester) -> Resu
             let t = &args[0];
             let (letters, _) = split(t);
             match letters.as_str() {
-                "V" => Op::OutV(v_addr(t, false, program)?),
-                "X" | "SP" => return err(t.col, format!("{} cannot be written: OUT needs Y, C or V", t.text)),
-                _ => Op::Coil(bit(t, program)?),
+                "V" | "TA" | "CTA" => Op::OutV(v_addr(t, false, program)?),
+                _ => Op::Coil(coil(t, "OUT", program)?),
             }
         }
         "SET" | "RST" => {
@@ -278,8 +301,10 @@ fn instruction(ts: &[Tok], program: &mut Program, suggester: &Suggester) -> Resu
                 return err(col, format!("{m} takes one element or a range of two"));
             }
             let a = bit(&args[0], program)?;
-            if matches!(a.kind, Kind::X | Kind::Sp) {
-                return err(args[0].col, format!("{} cannot be written: {m} needs Y or C", args[0].text));
+            let resets_box = m == "RST" && matches!(a.kind, Kind::T | Kind::Ct);
+            if !resets_box && !matches!(a.kind, Kind::Y | Kind::C | Kind::S) {
+                let kinds = if m == "RST" { "Y, C, S, T or CT" } else { "Y, C or S" };
+                return err(args[0].col, format!("{} cannot be written: {m} needs {kinds}", args[0].text));
             }
             let b = match args.get(1) {
                 Some(t) => {
@@ -292,6 +317,96 @@ fn instruction(ts: &[Tok], program: &mut Program, suggester: &Suggester) -> Resu
                 None => a,
             };
             if m == "SET" { Op::Set(a, b) } else { Op::Rst(a, b) }
+        }
+        "STRPD" | "STRND" | "ANDPD" | "ANDND" | "ORPD" | "ORND" => {
+            want(1)?;
+            let edge = if m.ends_with("PD") { Edge::Rising } else { Edge::Falling };
+            let t = Test::Edge(bit(&args[0], program)?, edge, program.edges);
+            program.edges += 1;
+            match &m[..2] {
+                "ST" => Op::Str(t),
+                "AN" => Op::And(t),
+                _ => Op::Or(t),
+            }
+        }
+        "NOT" | "INV" => {
+            want(0)?;
+            if m == "NOT" { Op::Not } else { Op::Inv }
+        }
+        "PD" => {
+            want(1)?;
+            let b = coil(&args[0], "PD", program)?;
+            program.edges += 1;
+            Op::Pd(b, program.edges - 1)
+        }
+        "OROUT" => {
+            want(1)?;
+            let b = coil(&args[0], "OROUT", program)?;
+            let mark = match program.orout_bits.iter().position(|&o| o == b) {
+                Some(i) => i,
+                None => {
+                    program.orout_bits.push(b);
+                    program.orout_bits.len() - 1
+                }
+            };
+            Op::OrOut(b, mark as u32)
+        }
+        "CMP" => {
+            want(1)?;
+            Op::Cmp(word(&args[0], true, false, 0, 0xFFFF, program)?)
+        }
+        "CMPD" => {
+            want(1)?;
+            Op::CmpD(double(&args[0], true, false, program)?)
+        }
+        "TMR" | "TMRF" | "TMRA" | "TMRAF" | "CNT" | "SGCNT" | "UDC" => {
+            want(2)?;
+            let timer = m.starts_with("TMR");
+            let kind = if timer { Kind::T } else { Kind::Ct };
+            let (letters, digits) = split(&args[0]);
+            if letters != kind.letter() {
+                let what = if timer { "a timer number T0–T377" } else { "a counter number CT0–CT377" };
+                return err(args[0].col, format!("{m} needs {what}, found '{}'", args[0].text));
+            }
+            let n = octal(digits, &args[0])?;
+            let wide = matches!(m.as_str(), "TMRA" | "TMRAF" | "UDC");
+            let last = kind.count() - 1 - u32::from(wide);
+            if n > last {
+                let also = if wide { " (it also takes the next number)" } else { "" };
+                return err(args[0].col, format!("{} is out of range ({}0–{}{last:o}){also}", args[0].text, kind.letter(), kind.letter()));
+            }
+            let p = &args[1];
+            let preset = if is_word(p) {
+                let a = v_addr(p, wide, program)?;
+                if wide { Preset::Pair(a) } else { Preset::Word(a) }
+            } else {
+                let Some(k) = k_hex(p) else {
+                    return err(p.col, format!("'{}': the preset is a K constant or a V word", p.text));
+                };
+                if !is_bcd(k) {
+                    return err(p.col, format!("{} is not BCD: presets are BCD digits 0–9", p.text));
+                }
+                if !wide && k > 0x9999 {
+                    return err(p.col, format!("{} is out of range (K0–K9999)", p.text));
+                }
+                Preset::K(k)
+            };
+            let status = Bit { kind, n };
+            program.used_bits.push(status);
+            let words = 1 + u32::from(wide);
+            let value = current_word(kind, n);
+            program.used_v.extend(value..value + words);
+            let op = match m.as_str() {
+                "TMR" => Op::Timer(TimerKind::Tmr, n, preset),
+                "TMRF" => Op::Timer(TimerKind::Tmrf, n, preset),
+                "TMRA" => Op::Timer(TimerKind::Tmra, n, preset),
+                "TMRAF" => Op::Timer(TimerKind::Tmraf, n, preset),
+                "CNT" => Op::Counter(CounterKind::Cnt, n, preset),
+                "SGCNT" => Op::Counter(CounterKind::Sgcnt, n, preset),
+                _ => Op::Counter(CounterKind::Udc, n, preset),
+            };
+            program.boxes.push(BoxDecl { status, words, preset, instr: program.instrs.len() });
+            op
         }
         "END" => {
             want(0)?;
@@ -395,6 +510,28 @@ fn instruction(ts: &[Tok], program: &mut Program, suggester: &Suggester) -> Resu
     })
 }
 
+/// One box per timer or counter number; a two-word box takes n and n + 1 (spec §2).
+fn boxes_once(instrs: &[Instr], errors: &mut Vec<(usize, String)>) {
+    let mut owner: std::collections::HashMap<Bit, usize> = std::collections::HashMap::new();
+    for ins in instrs {
+        let (kind, n) = match ins.op {
+            Op::Timer(_, n, _) => (Kind::T, n),
+            Op::Counter(_, n, _) => (Kind::Ct, n),
+            _ => continue,
+        };
+        let words = box_shape(&ins.op).map_or(1, |(w, _)| w);
+        for k in n..n + words {
+            let b = Bit { kind, n: k };
+            if let Some(&line) = owner.get(&b) {
+                let name = super::program::bit_name(b);
+                errors.push((ins.line, format!("{name} is already used by the box on line {line}: one box per number")));
+                break;
+            }
+            owner.insert(b, ins.line);
+        }
+    }
+}
+
 /// The rung checks of spec §2: (line, message).
 fn rungs(instrs: &[Instr]) -> Vec<(usize, String)> {
     let mut errors = Vec::new();
@@ -402,6 +539,8 @@ fn rungs(instrs: &[Instr]) -> Vec<(usize, String)> {
     let mut in_rung = false;
     let mut has_output = false;
     let mut end_line = None;
+    // The multi-input box that ended the rung: only a new rung, NOP or END may follow.
+    let mut after_box: Option<String> = None;
     for ins in instrs {
         if end_line.is_some() {
             errors.push((ins.line, format!("{} after END: END must be the last instruction", ins.mnemonic)));
@@ -414,7 +553,7 @@ fn rungs(instrs: &[Instr]) -> Vec<(usize, String)> {
                 }
                 end_line = Some(ins.line);
             }
-            Op::Nop => {}
+            Op::Nop => continue,
             Op::Str(_) => {
                 // A new rung when there is none or this one has its output; a branch otherwise.
                 if !in_rung || has_output {
@@ -427,8 +566,10 @@ fn rungs(instrs: &[Instr]) -> Vec<(usize, String)> {
                     errors.push((ins.line, "more than 8 levels on the boolean stack".into()));
                 }
             }
-            Op::And(_) | Op::Or(_) => {
-                if !in_rung {
+            Op::And(_) | Op::Or(_) | Op::Not => {
+                if after_box.is_some() {
+                    errors.push((ins.line, format!("{} after {}: a multi-input box ends its rung; start a new rung with STR", ins.mnemonic, after_box.unwrap_or_default())));
+                } else if !in_rung {
                     errors.push((ins.line, format!("{} needs a rung: start it with STR", ins.mnemonic)));
                 }
             }
@@ -441,18 +582,41 @@ fn rungs(instrs: &[Instr]) -> Vec<(usize, String)> {
                     levels -= 1;
                 }
             }
-            _ => {
+            op => {
+                let legs = box_shape(&op).map_or(1, |(_, legs)| legs);
                 if !in_rung {
                     errors.push((ins.line, "needs a rung condition: start the rung with a contact, e.g. STR SP1".into()));
+                } else if let Some(boxed) = &after_box {
+                    errors.push((ins.line, format!("{} after {boxed}: a multi-input box ends its rung; start a new rung with STR", ins.mnemonic)));
+                } else if legs > 1 {
+                    // Each leg is its own STR, first leg first, and the box is the rung's
+                    // first output (spec §2).
+                    if has_output {
+                        errors.push((ins.line, format!("{} must be the first output of its rung", ins.mnemonic)));
+                    } else if levels != legs {
+                        let names = match op {
+                            Op::Counter(CounterKind::Udc, ..) => "up, down and reset",
+                            Op::Counter(..) => "count and reset",
+                            _ => "enable and reset",
+                        };
+                        errors.push((ins.line, format!("{} takes {legs} inputs ({names}), each started by its own STR; found {levels}", ins.mnemonic)));
+                    }
+                    has_output = true;
                 } else {
                     if levels != 1 {
                         errors.push((ins.line, "branches are not merged (ANDSTR/ORSTR) before this output".into()));
                     }
                     has_output = true;
                 }
+                if legs > 1 {
+                    after_box = Some(ins.mnemonic.clone());
+                }
+                continue;
             }
         }
+        after_box = None;
     }
+    boxes_once(instrs, &mut errors);
     if end_line.is_none() {
         let line = instrs.last().map_or(1, |i| i.line);
         errors.push((line, "no END: a DL205 program ends with END".into()));

@@ -35,7 +35,7 @@ pub static DIALECT: Dialect = Dialect {
         "dl205_subs_lesson.ron",
         include_str!("../../../sessions/dl205_subs_lesson.ron"),
     )],
-    settings: &[],
+    settings: &[crate::machine::plc::SCAN_MS],
     default_channels: &[ChannelSpec {
         location: "ACC",
         label: "ACC",
@@ -56,6 +56,10 @@ pub fn machine(source: &str) -> Result<Dl205, Vec<crate::machine::Diagnostic>> {
     Ok(Dl205::new(Arc::new(assemble(source)?)))
 }
 
-fn open(source: &str, _settings: &Settings) -> OpenResult {
-    machine(source).map(crate::debugger::engine)
+fn open(source: &str, settings: &Settings) -> OpenResult {
+    let time = crate::machine::plc::TimeBase::from_settings(settings);
+    Ok(crate::debugger::engine(Dl205::with_time(
+        Arc::new(assemble(source)?),
+        time,
+    )))
 }

@@ -1,7 +1,9 @@
 //! The last instruction in words, with its values (spec issue: "SUBS: ACC 00395026 − L1
 //! 00172056 = 00222970 (BCD); pop: L1 ← L2 … L8 ← 0").
 
-use super::program::{Math, Op, Src, Test, bit_name};
+use super::program::{
+    CounterKind, Kind, Math, Op, Preset, Src, Test, TimerKind, bit_name, current_word, sp,
+};
 use super::{Dl205, StackMove};
 
 fn stack_note(m: &Dl205) -> String {
@@ -45,10 +47,35 @@ pub fn explain(m: &Dl205) -> Option<String> {
             let what = match t {
                 Test::Bit(b, neg) => format!("{}{} = {}", if neg { "NOT " } else { "" }, bit_name(b), u8::from(m.bit(b) != neg)),
                 Test::Compare(..) => "compare".into(),
+                Test::Edge(b, edge, _) => {
+                    let change = match edge {
+                        super::program::Edge::Rising => "turned on",
+                        super::program::Edge::Falling => "turned off",
+                    };
+                    let fired = m.edge_fired;
+                    format!(
+                        "{} is {}; {}",
+                        bit_name(b),
+                        u8::from(m.bit(b)),
+                        if fired { format!("it {change} since the last execution: fires") } else { format!("it has not {change} since the last execution") }
+                    )
+                }
             };
             format!("{text}: {what}; rung power {}", u8::from(power))
         }
-        Op::AndStr | Op::OrStr => format!("{text}: rung power {}", u8::from(power)),
+        Op::AndStr | Op::OrStr | Op::Not => format!("{text}: rung power {}", u8::from(power)),
+        Op::Pd(b, _) => format!(
+            "{text}: {} = {} (on for one scan after the rung turns on)",
+            bit_name(b),
+            u8::from(m.bit(b))
+        ),
+        Op::OrOut(b, _) => format!(
+            "{text}: {} = {} (ORed with the earlier OROUTs of this scan)",
+            bit_name(b),
+            u8::from(m.bit(b))
+        ),
+        Op::Timer(kind, n, preset) => timer_text(m, text, kind, n, preset),
+        Op::Counter(kind, n, preset) => counter_text(m, text, kind, n, preset),
         Op::Coil(b) => format!("{text}: {} = {}", bit_name(b), u8::from(m.bit(b))),
         Op::End => format!("END: scan {} done", m.tick.saturating_sub(1)),
         Op::Nop => "NOP".into(),
@@ -105,9 +132,96 @@ pub fn explain(m: &Dl205) -> Option<String> {
             };
             format!("{text}: {range} = {}", u8::from(on))
         }
+        Op::Cmp(_) | Op::CmpD(_) => {
+            let which = if m.sp[sp::SP60] {
+                "less than: SP60 = 1"
+            } else if m.sp[sp::SP61] {
+                "equal: SP61 = 1"
+            } else {
+                "greater than: SP62 = 1"
+            };
+            let lo = if matches!(ins.op, Op::Cmp(_)) { "low word of " } else { "" };
+            format!("{text}: {lo}ACC {a:08X} is {which} (unsigned)")
+        }
         Op::ToBin if m.flags_written(ins.op, ins.line) == [super::program::sp::SP75] => {
             format!("{text}: ACC {a:08X} has a non-BCD digit: SP75 = 1, ACC unchanged")
         }
         _ => format!("{text}: ACC = {:08X}{}", m.acc, stack_note(m)),
     })
+}
+
+/// A box's value in its digits, or "not BCD".
+fn digits(v: u32, words: u32) -> String {
+    match super::bcd_value(v, 4 * words) {
+        Some(n) => n.to_string(),
+        None => format!("{v:X} (not BCD)"),
+    }
+}
+
+fn preset_text(m: &Dl205, preset: Preset, words: u32) -> String {
+    digits(m.preset(preset), words)
+}
+
+/// "TMR T1 K30: enabled, TA1 = 29: 2.9 s of 3.0 s; T1 = 0".
+fn timer_text(m: &Dl205, text: &str, kind: TimerKind, n: u32, preset: Preset) -> String {
+    let words = if kind.accumulating() { 2 } else { 1 };
+    let now = m.box_value(n, words);
+    let status = format!("T{n:o} = {}", u8::from(m.t[n as usize]));
+    let (enable, reset) = if kind.accumulating() {
+        (m.leg(0), m.leg(1))
+    } else {
+        let p = m.power.get(m.last.unwrap_or(0) as usize).copied().flatten().unwrap_or(false);
+        (p, !p)
+    };
+    if reset {
+        return format!("{text}: reset: TA{n:o} = 0; {status}");
+    }
+    if !enable {
+        return format!("{text}: not enabled: TA{n:o} holds {}; {status}", digits(now, words));
+    }
+    if m.raised_error && super::bcd_value(now, 4 * words).is_none() {
+        return format!("{text}: TA{n:o} = {now:X} is not BCD: not counted, SP75 = 1; {status}");
+    }
+    let seconds = |v: u32| {
+        super::bcd_value(v, 4 * words).map(|units| {
+            let ms = units * u64::from(kind.unit_ms());
+            format!("{}.{:0w$} s", ms / 1000, (ms % 1000) / u64::from(kind.unit_ms()), w = if kind.unit_ms() == 10 { 2 } else { 1 })
+        })
+    };
+    let of = match (seconds(now), seconds(m.preset(preset))) {
+        (Some(a), Some(b)) => format!(": {a} of {b}"),
+        _ => String::new(),
+    };
+    format!(
+        "{text}: enabled, TA{n:o} {} → {}{of}; {status}",
+        digits(m.box_before, words),
+        digits(now, words)
+    )
+}
+
+/// "CNT CT3 K10: counted 4 → 5; CT3 = 0".
+fn counter_text(m: &Dl205, text: &str, kind: CounterKind, n: u32, preset: Preset) -> String {
+    let words = if kind == CounterKind::Udc { 2 } else { 1 };
+    let now = m.box_value(current_word(Kind::Ct, n), words);
+    let status = format!(
+        "CT{n:o} = {} (preset {})",
+        u8::from(m.ct[n as usize]),
+        preset_text(m, preset, words)
+    );
+    let reset = match kind {
+        CounterKind::Cnt => m.leg(1),
+        CounterKind::Udc => m.leg(2),
+        CounterKind::Sgcnt => false,
+    };
+    if reset {
+        return format!("{text}: reset: CTA{n:o} = 0; {status}");
+    }
+    let (was, is) = (digits(m.box_before, words), digits(now, words));
+    if m.box_before == now {
+        if m.raised_error {
+            return format!("{text}: CTA{n:o} = {now:X} is not BCD: not counted, SP75 = 1; {status}");
+        }
+        return format!("{text}: no count (no off→on change of an input): CTA{n:o} stays {is}; {status}");
+    }
+    format!("{text}: CT{n:o} counted {was} → {is}; {status}")
 }

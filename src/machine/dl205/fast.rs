@@ -7,8 +7,8 @@
 
 use std::sync::Arc;
 
-use super::program::{Bit, D, Instr, Op, Test, W};
-use super::view::{ACC, V, bit_loc, kind_space};
+use super::program::{Bit, D, Instr, Kind, Op, Test, W, box_shape, current_word};
+use super::view::{ACC, SP, V, bit_loc, kind_space};
 use super::{Dl205, LEVELS};
 use crate::machine::{Loc, WriteSet};
 
@@ -32,6 +32,9 @@ pub enum Flat {
     OutWord(u32),
     OutPair(u32),
     Pop,
+    Not,
+    /// An output that runs on an unpowered rung too (PD, OROUT, the boxes).
+    Always(Op),
     Output(Op),
     /// END: the executor ends the scan.
     Full,
@@ -56,10 +59,27 @@ pub fn flatten(instrs: &[Instr]) -> Vec<Flat> {
             Op::OutV(a) => Flat::OutWord(a),
             Op::OutD(a) => Flat::OutPair(a),
             Op::Pop => Flat::Pop,
+            Op::Not => Flat::Not,
+            op if op.always_runs() => Flat::Always(op),
             Op::End => Flat::Full,
             op => Flat::Output(op),
         })
         .collect()
+}
+
+/// What a timer or counter box may write: its current value word(s), its status bit, SP75.
+pub fn box_writes(op: &Op) -> Vec<Loc> {
+    let (kind, n) = match *op {
+        Op::Timer(_, n, _) => (Kind::T, n),
+        Op::Counter(_, n, _) => (Kind::Ct, n),
+        _ => return Vec::new(),
+    };
+    let words = box_shape(op).map_or(1, |(w, _)| w);
+    let word = current_word(kind, n);
+    let mut out: Vec<Loc> = (word..word + words).map(|w| Loc::new(V, w)).collect();
+    out.push(bit_loc(Bit { kind, n }));
+    out.push(Loc::new(SP, super::program::sp::SP75 as u32));
+    out
 }
 
 /// Every location a pass over `instrs` may write, as `note_writes` notes them one at a time.
@@ -68,7 +88,20 @@ pub fn scan_writes(instrs: &[Instr]) -> WriteSet {
     let mut accumulator = false;
     for instr in instrs {
         match instr.op {
-            Op::Coil(b) => set.insert(bit_loc(b)),
+            Op::Coil(b) | Op::Pd(b, _) | Op::OrOut(b, _) => set.insert(bit_loc(b)),
+            Op::Timer(..) | Op::Counter(..) => {
+                for loc in box_writes(&instr.op) {
+                    set.insert(loc);
+                }
+            }
+            Op::Rst(a, b) if matches!(a.kind, Kind::T | Kind::Ct) => {
+                for n in a.n..=b.n {
+                    let status = Bit { kind: a.kind, n };
+                    set.insert(bit_loc(status));
+                    let word = current_word(a.kind, n);
+                    (word..word + 2).for_each(|w| set.insert(Loc::new(V, w)));
+                }
+            }
             Op::Set(a, b) | Op::Rst(a, b) => {
                 (a.n..=b.n).for_each(|n| set.insert(Loc::new(kind_space(a.kind), n)));
             }
@@ -102,6 +135,13 @@ impl Dl205 {
             Flat::AndStr => self.join_top(true),
             Flat::OrStr => self.join_top(false),
             Flat::Nop => {}
+            Flat::Not => self.invert_top(),
+            Flat::Always(op) => {
+                self.rung_has_output = true;
+                // An error flag remembers the line it was raised on.
+                self.pc = index as u32;
+                self.always(op, power);
+            }
             Flat::Coil(b) => {
                 self.rung_has_output = true;
                 self.set_bit(b, power);

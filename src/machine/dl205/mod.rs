@@ -20,7 +20,11 @@ pub mod view;
 use std::sync::Arc;
 
 pub use assembler::assemble;
-use program::{Bit, Cmp, D, Kind, Logic, Math, Op, Program, ShiftKind, Src, Test, W, sp};
+use crate::machine::plc::{CounterInputs, Edges, TimeBase, accumulate};
+use program::{
+    Bit, Cmp, CounterKind, D, Edge, Kind, Logic, Math, Op, Preset, Program, ShiftKind, Src, Test,
+    TimerKind, W, sp,
+};
 
 
 pub const V_WORDS: usize = 0o40000;
@@ -48,7 +52,26 @@ pub struct Dl205 {
     pub x_image: Vec<bool>,
     pub y: Vec<bool>,
     pub c: Vec<bool>,
-    pub sp: [bool; 11],
+    pub s: Vec<bool>,
+    pub t: Vec<bool>,
+    pub ct: Vec<bool>,
+    pub sp: [bool; program::SPECIAL.len()],
+    /// Each timer's time toward its next unit (`Tn.ms`).
+    pub t_ms: Vec<u32>,
+    /// The scan each timer last counted, plus one (0: none since its last reset).
+    pub t_counted: Vec<u64>,
+    /// Each counter's inputs at its last execution (`CTn.in`).
+    pub ct_in: Vec<CounterInputs>,
+    pub edges: Edges,
+    /// Whether the last edge contact evaluated fired (for its explanation).
+    pub edge_fired: bool,
+    /// Whether the last instruction raised SP53 or SP75 (what it wrote, for the Log).
+    pub raised_error: bool,
+    /// A timer's or counter's current value before the last instruction ran it.
+    pub box_before: u32,
+    /// OROUT targets already written in this scan.
+    pub orout_marks: Vec<bool>,
+    pub time: TimeBase,
     pub acc: u32,
     pub stack: [u32; LEVELS],
     pub depth: u8,
@@ -97,7 +120,14 @@ pub fn to_bcd(v: u64) -> u32 {
 
 impl Dl205 {
     pub fn new(program: Arc<Program>) -> Self {
+        Self::with_time(program, TimeBase::default())
+    }
+
+    pub fn with_time(program: Arc<Program>, time: TimeBase) -> Self {
         let n = program.instrs.len();
+        let timers = Kind::T.count() as usize;
+        let edges = Edges::new(program.edges as usize);
+        let orout_marks = vec![false; program.orout_bits.len()];
         let mut m = Dl205 {
             program,
             v: vec![0; V_WORDS],
@@ -105,7 +135,19 @@ impl Dl205 {
             x_image: vec![false; Kind::X.count() as usize],
             y: vec![false; Kind::Y.count() as usize],
             c: vec![false; Kind::C.count() as usize],
-            sp: [false; 11],
+            s: vec![false; Kind::S.count() as usize],
+            t: vec![false; timers],
+            ct: vec![false; timers],
+            sp: [false; program::SPECIAL.len()],
+            t_ms: vec![0; timers],
+            t_counted: vec![0; timers],
+            ct_in: vec![CounterInputs::default(); timers],
+            edges,
+            edge_fired: false,
+            raised_error: false,
+            box_before: 0,
+            orout_marks,
+            time,
             acc: 0,
             stack: [0; LEVELS],
             depth: 0,
@@ -135,6 +177,9 @@ impl Dl205 {
             Kind::Y => self.y.get(i).copied().unwrap_or(false),
             Kind::C => self.c.get(i).copied().unwrap_or(false),
             Kind::Sp => self.sp.get(i).copied().unwrap_or(false),
+            Kind::S => self.s.get(i).copied().unwrap_or(false),
+            Kind::T => self.t.get(i).copied().unwrap_or(false),
+            Kind::Ct => self.ct.get(i).copied().unwrap_or(false),
         }
     }
 
@@ -143,6 +188,10 @@ impl Dl205 {
         let slot = match b.kind {
             Kind::Y => self.y.get_mut(i),
             Kind::C => self.c.get_mut(i),
+            Kind::S => self.s.get_mut(i),
+            // RST of a timer or counter clears its box (see `reset_box`).
+            Kind::T => self.t.get_mut(i),
+            Kind::Ct => self.ct.get_mut(i),
             // The assembler never lets a program write X or SP.
             Kind::X | Kind::Sp => None,
         };
@@ -206,18 +255,30 @@ impl Dl205 {
     }
 
     fn non_bcd(&mut self) {
+        self.raised_error = true;
         self.sp[sp::SP75] = true;
         self.sp75_line = Some(self.line());
     }
 
     fn divide_by_zero(&mut self) {
+        self.raised_error = true;
         self.sp[sp::SP53] = true;
         self.sp53_line = Some(self.line());
     }
 
-    fn test(&self, t: Test) -> bool {
+    /// A contact's value; an edge contact also updates its memory.
+    #[inline(always)]
+    fn test(&mut self, t: Test) -> bool {
         match t {
             Test::Bit(b, neg) => self.bit(b) != neg,
+            Test::Edge(b, edge, i) => {
+                let now = self.bit(b);
+                self.edge_fired = match edge {
+                    Edge::Rising => self.edges.rose(i as usize, now),
+                    Edge::Falling => self.edges.fell(i as usize, now),
+                };
+                self.edge_fired
+            }
             Test::Compare(a, b, kind) => {
                 let (x, y) = (u32::from(self.v[a as usize]), self.w(b));
                 match kind {
@@ -397,6 +458,7 @@ impl Dl205 {
         let op = self.program.instrs[index].op;
         self.before = (self.acc, self.stack[0]);
         self.moved = StackMove::None;
+        self.raised_error = false;
         let power = self.bstack.last().copied().unwrap_or(false);
         self.last_ran = true;
         match op {
@@ -406,9 +468,10 @@ impl Dl205 {
             Op::AndStr => self.join_top(true),
             Op::OrStr => self.join_top(false),
             Op::End | Op::Nop => {}
-            Op::Coil(b) => {
+            Op::Not => self.invert_top(),
+            op if op.always_runs() => {
                 self.rung_has_output = true;
-                self.set_bit(b, power);
+                self.always(op, power);
             }
             _ if !power => {
                 self.rung_has_output = true;
@@ -431,14 +494,194 @@ impl Dl205 {
         }
     }
 
+    /// NOT: the top of the boolean stack inverted.
+    #[inline(always)]
+    fn invert_top(&mut self) {
+        if let Some(top) = self.bstack.last_mut() {
+            *top = !*top;
+        }
+    }
+
+    /// An output that runs whatever its rung's power `p` (spec §5).
+    pub(super) fn always(&mut self, op: Op, p: bool) {
+        match op {
+            Op::Coil(b) => self.set_bit(b, p),
+            Op::Pd(b, edge) => {
+                let fired = self.edges.rose(edge as usize, p);
+                self.set_bit(b, fired);
+            }
+            Op::OrOut(b, mark) => {
+                let first = self
+                    .orout_marks
+                    .get_mut(mark as usize)
+                    .is_some_and(|m| !std::mem::replace(m, true));
+                let on = if first { p } else { self.bit(b) || p };
+                self.set_bit(b, on);
+            }
+            Op::Timer(kind, n, preset) => {
+                let (enable, reset) = if kind.accumulating() {
+                    (self.leg(0), self.leg(1))
+                } else {
+                    (p, !p)
+                };
+                self.timer(kind, n, preset, enable, reset);
+            }
+            Op::Counter(kind, n, preset) => {
+                let (up, down, reset) = match kind {
+                    CounterKind::Cnt => (self.leg(0), false, self.leg(1)),
+                    CounterKind::Sgcnt => (p, false, false),
+                    CounterKind::Udc => (self.leg(0), self.leg(1), self.leg(2)),
+                };
+                self.counter(kind, n, preset, up, down, reset);
+            }
+            _ => {}
+        }
+    }
+
+    /// Leg `i` of a multi-input box: the rung's i-th level, first STR first.
+    fn leg(&self, i: usize) -> bool {
+        self.bstack.get(i).copied().unwrap_or(false)
+    }
+
+    /// A box's current value: one word, or a pair (low word first).
+    fn box_value(&self, addr: u32, words: u32) -> u32 {
+        if words == 2 {
+            self.pair(addr)
+        } else {
+            u32::from(self.v[addr as usize])
+        }
+    }
+
+    fn set_box_value(&mut self, addr: u32, words: u32, value: u32) {
+        self.v[addr as usize] = value as u16;
+        if words == 2 {
+            self.v[addr as usize + 1] = (value >> 16) as u16;
+        }
+    }
+
+    fn preset(&self, preset: Preset) -> u32 {
+        match preset {
+            Preset::K(k) => k,
+            Preset::Word(a) => u32::from(self.v[a as usize]),
+            Preset::Pair(a) => self.pair(a),
+        }
+    }
+
+    /// The status bit of a box: current value ≥ preset as raw patterns (spec §9.15); a
+    /// non-BCD preset also sets SP75 (§9.16).
+    fn box_done(&mut self, value: u32, preset: Preset, words: u32) -> bool {
+        let preset = self.preset(preset);
+        if bcd_value(preset, 4 * words).is_none() {
+            self.non_bcd();
+        }
+        value >= preset
+    }
+
+    /// A timer's execution (spec §6.9): reset, count this scan once, status.
+    fn timer(&mut self, kind: TimerKind, n: u32, preset: Preset, enable: bool, reset: bool) {
+        let words = if kind.accumulating() { 2 } else { 1 };
+        let i = n as usize;
+        self.box_before = self.box_value(n, words);
+        if reset {
+            self.set_box_value(n, words, 0);
+            self.t_ms[i] = 0;
+            self.t_counted[i] = 0;
+            self.t[i] = false;
+            return;
+        }
+        let max: u64 = if words == 2 { 99_999_999 } else { 9_999 };
+        if enable && self.t_counted[i] != self.tick + 1 {
+            self.t_counted[i] = self.tick + 1;
+            match bcd_value(self.box_value(n, words), 4 * words) {
+                None => self.non_bcd(),
+                Some(value) if value < max => {
+                    let (units, left) =
+                        accumulate(self.t_ms[i], self.time.scan_ms, kind.unit_ms());
+                    let value = (value + units).min(max);
+                    self.t_ms[i] = if value == max { 0 } else { left };
+                    self.set_box_value(n, words, to_bcd(value));
+                }
+                Some(_) => self.t_ms[i] = 0,
+            }
+        }
+        let value = self.box_value(n, words);
+        self.t[i] = self.box_done(value, preset, words);
+    }
+
+    /// A counter's execution (spec §6.9): count rises, reset, status.
+    fn counter(
+        &mut self,
+        kind: CounterKind,
+        n: u32,
+        preset: Preset,
+        up: bool,
+        down: bool,
+        reset: bool,
+    ) {
+        let words = if kind == CounterKind::Udc { 2 } else { 1 };
+        let i = n as usize;
+        let addr = program::current_word(Kind::Ct, n);
+        self.box_before = self.box_value(addr, words);
+        let (rose_up, rose_down) = self.ct_in[i].rises(up, down);
+        if reset {
+            self.set_box_value(addr, words, 0);
+            self.ct[i] = false;
+            return;
+        }
+        if rose_up != rose_down {
+            let max: u64 = if words == 2 { 99_999_999 } else { 9_999 };
+            match bcd_value(self.box_value(addr, words), 4 * words) {
+                None => self.non_bcd(),
+                Some(v) => {
+                    let v = if rose_up { (v + 1).min(max) } else { v.saturating_sub(1) };
+                    self.set_box_value(addr, words, to_bcd(v));
+                }
+            }
+        }
+        let value = self.box_value(addr, words);
+        self.ct[i] = self.box_done(value, preset, words);
+    }
+
+    /// RST of a timer or counter bit: its box starts over (value word(s), time, status).
+    fn reset_box(&mut self, b: Bit) {
+        let i = b.n as usize;
+        let words = self.program.box_words(b);
+        let addr = program::current_word(b.kind, b.n);
+        if (addr + words) as usize <= self.v.len() {
+            self.set_box_value(addr, words, 0);
+        }
+        if b.kind == Kind::T {
+            self.t_ms[i] = 0;
+            self.t_counted[i] = 0;
+        }
+        self.set_bit(b, false);
+    }
+
     /// An output instruction on a powered rung.
     fn output(&mut self, op: Op) {
         match op {
+            Op::Rst(a, b) if matches!(a.kind, Kind::T | Kind::Ct) => {
+                for n in a.n..=b.n {
+                    self.reset_box(Bit { kind: a.kind, n });
+                }
+            }
             Op::Set(a, b) | Op::Rst(a, b) => {
                 let on = matches!(op, Op::Set(..));
                 for n in a.n..=b.n {
                     self.set_bit(Bit { kind: a.kind, n }, on);
                 }
+            }
+            Op::Inv => {
+                self.acc = !self.acc;
+                self.zn();
+            }
+            Op::Cmp(w) => {
+                let w = self.w(w);
+                self.compare(self.acc & 0xFFFF, w);
+            }
+            Op::CmpD(d) => {
+                let d = self.d(d);
+                self.compare(self.acc, d);
             }
             Op::Ld(w) => {
                 let v = self.w(w);
@@ -524,10 +767,29 @@ impl Dl205 {
         }
     }
 
+    /// CMP/CMPD: SP60 less, SP61 equal, SP62 greater (unsigned).
+    fn compare(&mut self, a: u32, b: u32) {
+        self.sp[sp::SP60] = a < b;
+        self.sp[sp::SP61] = a == b;
+        self.sp[sp::SP62] = a > b;
+    }
+
     fn scan_start(&mut self) {
         self.x_image.clone_from(&self.x);
-        self.sp[sp::SP0] = self.tick == 0;
+        let t = self.tick;
+        self.sp[sp::SP0] = t == 0;
         self.sp[sp::SP1] = true;
+        self.sp[sp::SP2] = false;
+        for (relay, period) in [
+            (sp::SP3, 60_000),
+            (sp::SP4, 1_000),
+            (sp::SP5, 100),
+            (sp::SP6, 50),
+        ] {
+            self.sp[relay] = self.time.late_half(t, period);
+        }
+        self.sp[sp::SP7] = t % 2 == 1;
+        self.orout_marks.iter_mut().for_each(|m| *m = false);
         self.acc = 0;
         self.stack = [0; LEVELS];
         self.depth = 0;

@@ -7,6 +7,12 @@ pub enum Kind {
     Y,
     C,
     Sp,
+    /// Stage bits.
+    S,
+    /// Timer status bits.
+    T,
+    /// Counter status bits.
+    Ct,
 }
 
 impl Kind {
@@ -16,33 +22,50 @@ impl Kind {
             Kind::Y => "Y",
             Kind::C => "C",
             Kind::Sp => "SP",
+            Kind::S => "S",
+            Kind::T => "T",
+            Kind::Ct => "CT",
         }
     }
     /// Elements 0..count (octal numbering: the index is the octal number's value).
     pub fn count(self) -> u32 {
         match self {
-            Kind::X | Kind::Y => 0o2000,
+            Kind::X | Kind::Y | Kind::S => 0o2000,
             Kind::C => 0o4000,
             Kind::Sp => 0o1000,
+            Kind::T | Kind::Ct => 0o400,
         }
     }
 }
 
-/// The special relays modelled (spec §4), by octal number.
-pub const SPECIAL: [u32; 11] = [0, 1, 0o53, 0o63, 0o64, 0o65, 0o66, 0o67, 0o70, 0o73, 0o75];
+/// The special relays modelled (spec §4), by octal number, ascending: a range of them (LDF
+/// SP0 K8) is a range of indices.
+pub const SPECIAL: [u32; 20] = [
+    0, 1, 2, 3, 4, 5, 6, 7, 0o53, 0o60, 0o61, 0o62, 0o63, 0o64, 0o65, 0o66, 0o67, 0o70, 0o73,
+    0o75,
+];
 
 pub mod sp {
     pub const SP0: usize = 0;
     pub const SP1: usize = 1;
-    pub const SP53: usize = 2;
-    pub const SP63: usize = 3;
-    pub const SP64: usize = 4;
-    pub const SP65: usize = 5;
-    pub const SP66: usize = 6;
-    pub const SP67: usize = 7;
-    pub const SP70: usize = 8;
-    pub const SP73: usize = 9;
-    pub const SP75: usize = 10;
+    pub const SP2: usize = 2;
+    pub const SP3: usize = 3;
+    pub const SP4: usize = 4;
+    pub const SP5: usize = 5;
+    pub const SP6: usize = 6;
+    pub const SP7: usize = 7;
+    pub const SP53: usize = 8;
+    pub const SP60: usize = 9;
+    pub const SP61: usize = 10;
+    pub const SP62: usize = 11;
+    pub const SP63: usize = 12;
+    pub const SP64: usize = 13;
+    pub const SP65: usize = 14;
+    pub const SP66: usize = 15;
+    pub const SP67: usize = 16;
+    pub const SP70: usize = 17;
+    pub const SP73: usize = 18;
+    pub const SP75: usize = 19;
 }
 
 /// A bit element: its kind and index (for SP: the index into [`SPECIAL`]).
@@ -86,6 +109,88 @@ pub enum Cmp {
 pub enum Test {
     Bit(Bit, bool),
     Compare(u32, W, Cmp),
+    /// An edge contact (STRPD: rising, STRND: falling) with the index of its edge memory.
+    Edge(Bit, Edge, u32),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Edge {
+    Rising,
+    Falling,
+}
+
+/// A preset or other box operand: a K constant, a V word, or a V pair.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Preset {
+    K(u32),
+    Word(u32),
+    Pair(u32),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TimerKind {
+    Tmr,
+    Tmrf,
+    Tmra,
+    Tmraf,
+}
+
+impl TimerKind {
+    pub fn unit_ms(self) -> u32 {
+        match self {
+            TimerKind::Tmr | TimerKind::Tmra => 100,
+            TimerKind::Tmrf | TimerKind::Tmraf => 10,
+        }
+    }
+    /// TMRA/TMRAF: an enable and a reset leg, two words, kept while disabled.
+    pub fn accumulating(self) -> bool {
+        matches!(self, TimerKind::Tmra | TimerKind::Tmraf)
+    }
+    pub fn mnemonic(self) -> &'static str {
+        match self {
+            TimerKind::Tmr => "TMR",
+            TimerKind::Tmrf => "TMRF",
+            TimerKind::Tmra => "TMRA",
+            TimerKind::Tmraf => "TMRAF",
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CounterKind {
+    /// Count and reset legs.
+    Cnt,
+    /// Stage counter: one count leg, cleared only by RST.
+    Sgcnt,
+    /// Up, down and reset legs; two words.
+    Udc,
+}
+
+impl CounterKind {
+    pub fn mnemonic(self) -> &'static str {
+        match self {
+            CounterKind::Cnt => "CNT",
+            CounterKind::Sgcnt => "SGCNT",
+            CounterKind::Udc => "UDC",
+        }
+    }
+}
+
+/// Words a box's current value takes (1, or 2 for TMRA/TMRAF/UDC) and the legs it reads.
+pub fn box_shape(op: &Op) -> Option<(u32, usize)> {
+    match op {
+        Op::Timer(k, ..) if k.accumulating() => Some((2, 2)),
+        Op::Timer(..) => Some((1, 1)),
+        Op::Counter(CounterKind::Cnt, ..) => Some((1, 2)),
+        Op::Counter(CounterKind::Sgcnt, ..) => Some((1, 1)),
+        Op::Counter(CounterKind::Udc, ..) => Some((2, 3)),
+        _ => None,
+    }
+}
+
+/// The V address of timer or counter `n`'s current value (TAn = Vn, CTAn = V1000 + n).
+pub fn current_word(kind: Kind, n: u32) -> u32 {
+    if kind == Kind::Ct { 0o1000 + n } else { n }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -149,11 +254,33 @@ pub enum Op {
     LogicD(Logic, D),
     LogicS(Logic),
     Shift(ShiftKind, W),
+    /// Invert the top of the boolean stack.
+    Not,
+    /// One-shot coil with the index of its edge memory.
+    Pd(Bit, u32),
+    /// OR-ing coil with the index of its per-scan "written" mark.
+    OrOut(Bit, u32),
+    Inv,
+    Cmp(W),
+    CmpD(D),
+    Timer(TimerKind, u32, Preset),
+    Counter(CounterKind, u32, Preset),
 }
 
 impl Op {
     pub fn is_contact(&self) -> bool {
-        matches!(self, Op::Str(_) | Op::And(_) | Op::Or(_) | Op::AndStr | Op::OrStr)
+        matches!(
+            self,
+            Op::Str(_) | Op::And(_) | Op::Or(_) | Op::AndStr | Op::OrStr | Op::Not
+        )
+    }
+    /// Outputs that run whatever their rung's power (spec §5): they act on an unpowered rung
+    /// too (a coil turns off, a timer resets).
+    pub fn always_runs(&self) -> bool {
+        matches!(
+            self,
+            Op::Coil(_) | Op::Pd(..) | Op::OrOut(..) | Op::Timer(..) | Op::Counter(..)
+        )
     }
     pub fn is_output(&self) -> bool {
         !self.is_contact() && !matches!(self, Op::End | Op::Nop)
@@ -193,4 +320,33 @@ pub struct Program {
     pub flat: Vec<super::fast::Flat>,
     /// Every location a scan may write.
     pub scan_writes: crate::machine::WriteSet,
+    /// Edge memories (edge contacts and PD coils), one per instruction.
+    pub edges: u32,
+    /// Distinct OROUT targets; each has a per-scan mark.
+    pub orout_bits: Vec<Bit>,
+    /// Every timer and counter box, in program order.
+    pub boxes: Vec<BoxDecl>,
+}
+
+/// A timer or counter box of the program: for the Timers & counters panel, RST and the
+/// one-box-per-number check.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BoxDecl {
+    /// `T` or `CT` and the box's number.
+    pub status: Bit,
+    /// Words of its current value (2: it also takes number n + 1).
+    pub words: u32,
+    pub preset: Preset,
+    /// Index of its instruction.
+    pub instr: usize,
+}
+
+impl Program {
+    /// Words of the current value of the box with this status bit (1 when there is none).
+    pub fn box_words(&self, status: Bit) -> u32 {
+        self.boxes
+            .iter()
+            .find(|b| b.status == status)
+            .map_or(1, |b| b.words)
+    }
 }

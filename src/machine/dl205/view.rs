@@ -16,11 +16,23 @@ pub const X: u8 = 2;
 pub const Y: u8 = 3;
 pub const C: u8 = 4;
 pub const SP: u8 = 5;
+pub const S: u8 = 6;
+pub const T: u8 = 7;
+pub const CT: u8 = 8;
 
-pub(super) const SP_DESCRIPTIONS: [&str; 11] = [
+pub(super) const SP_DESCRIPTIONS: [&str; 20] = [
     "on during the first scan",
     "always on",
-    "divide by zero",
+    "always off",
+    "1-minute clock (on in the second half)",
+    "1-second clock (on in the second half)",
+    "100 ms clock (on in the second half)",
+    "50 ms clock (on in the second half)",
+    "on in odd scans",
+    "divide by zero; table address out of range",
+    "CMP: accumulator less than the operand",
+    "CMP: accumulator equal to the operand",
+    "CMP: accumulator greater than the operand",
     "the result is zero",
     "borrow out of the low word",
     "borrow out of the 32-bit value",
@@ -39,6 +51,9 @@ pub fn kind_space(kind: Kind) -> u8 {
         Kind::Y => Y,
         Kind::C => C,
         Kind::Sp => SP,
+        Kind::S => S,
+        Kind::T => T,
+        Kind::Ct => CT,
     }
 }
 
@@ -67,6 +82,11 @@ pub fn parse_name(name: &str) -> Option<Loc> {
         "X" if n < Kind::X.count() => Some(Loc::new(X, n)),
         "Y" if n < Kind::Y.count() => Some(Loc::new(Y, n)),
         "C" if n < Kind::C.count() => Some(Loc::new(C, n)),
+        "S" if n < Kind::S.count() => Some(Loc::new(S, n)),
+        "T" if n < Kind::T.count() => Some(Loc::new(T, n)),
+        "CT" if n < Kind::Ct.count() => Some(Loc::new(CT, n)),
+        "TA" if n < Kind::T.count() => Some(Loc::new(V, n)),
+        "CTA" if n < Kind::Ct.count() => Some(Loc::new(V, 0o1000 + n)),
         "SP" => SPECIAL
             .iter()
             .position(|&s| s == n)
@@ -98,6 +118,10 @@ impl Dl205 {
             Op::ToBin => &[SP63, SP70, SP75],
             Op::ToBcd | Op::LogicD(..) | Op::LogicS(..) => &[SP63, SP70],
             Op::IncB(_) | Op::DecB(_) | Op::LogicV(..) => &[SP63],
+            Op::Inv => &[SP63, SP70],
+            Op::Cmp(_) | Op::CmpD(_) => &[SP60, SP61, SP62],
+            // Boxes only ever set SP75 (spec §6.9).
+            Op::Timer(..) | Op::Counter(..) if self.raised_error => &[SP75],
             _ => &[],
         }
     }
@@ -120,7 +144,7 @@ impl Dl205 {
             super::StackMove::Overwrite { .. } => 1,
         };
         (1..=levels.min(LEVELS as u32)).for_each(|i| f(Loc::new(ACC, i)));
-        if self.last_ran {
+        if self.last_ran || ins.op.always_runs() {
             for &flag in self.flags_written(ins.op, ins.line) {
                 f(Loc::new(SP, flag as u32));
             }
@@ -131,7 +155,21 @@ impl Dl205 {
                 f(Loc::new(V, a));
                 f(Loc::new(V, a + 1));
             }
-            Op::Coil(b) => f(bit_loc(b)),
+            Op::Coil(b) | Op::Pd(b, _) | Op::OrOut(b, _) => f(bit_loc(b)),
+            Op::Timer(..) | Op::Counter(..) => {
+                // Value word(s) and status; SP75 came with the flags above.
+                let writes = super::fast::box_writes(&ins.op);
+                writes[..writes.len() - 1].iter().for_each(|&loc| f(loc));
+            }
+            Op::Rst(a, b) if self.last_ran && matches!(a.kind, Kind::T | Kind::Ct) => {
+                for n in a.n..=b.n {
+                    let status = Bit { kind: a.kind, n };
+                    let word = super::program::current_word(a.kind, n);
+                    let words = self.program.box_words(status);
+                    (word..word + words).for_each(|w| f(Loc::new(V, w)));
+                    f(bit_loc(status));
+                }
+            }
             Op::Set(a, b) | Op::Rst(a, b) if self.last_ran => {
                 (a.n..=b.n).for_each(|n| f(Loc::new(kind_space(a.kind), n)));
             }
@@ -148,7 +186,7 @@ impl MachineView for Dl205 {
         "dl205"
     }
     fn tick_micros(&self) -> u32 {
-        10_000
+        self.time.micros()
     }
     fn spaces(&self) -> Vec<SpaceInfo> {
         vec![
@@ -188,6 +226,24 @@ impl MachineView for Dl205 {
                 kind: SpaceKind::Flags,
                 len: SPECIAL.len() as u32,
             },
+            SpaceInfo {
+                name: "S",
+                title: "Stage bits",
+                kind: SpaceKind::Bits,
+                len: Kind::S.count(),
+            },
+            SpaceInfo {
+                name: "T",
+                title: "Timer status bits",
+                kind: SpaceKind::Bits,
+                len: Kind::T.count(),
+            },
+            SpaceInfo {
+                name: "CT",
+                title: "Counter status bits",
+                kind: SpaceKind::Bits,
+                len: Kind::Ct.count(),
+            },
         ]
     }
     fn info(&self, loc: Loc) -> Option<LocInfo> {
@@ -223,6 +279,12 @@ impl MachineView for Dl205 {
             X if i < Kind::X.count() => Some(bit(format!("X{i:o}"), "input", true)),
             Y if i < Kind::Y.count() => Some(bit(format!("Y{i:o}"), "output", true)),
             C if i < Kind::C.count() => Some(bit(format!("C{i:o}"), "control relay", true)),
+            S if i < Kind::S.count() => Some(bit(format!("S{i:o}"), "stage bit", true)),
+            // The boxes own their status bits: RST in the program clears them.
+            T if i < Kind::T.count() => Some(bit(format!("T{i:o}"), "timer status", false)),
+            CT if i < Kind::Ct.count() => {
+                Some(bit(format!("CT{i:o}"), "counter status", false))
+            }
             SP => SPECIAL
                 .get(i as usize)
                 .map(|&n| bit(format!("SP{n:o}"), SP_DESCRIPTIONS[i as usize], false)),
@@ -239,6 +301,9 @@ impl MachineView for Dl205 {
             Y => u64::from(self.y.get(i).copied().unwrap_or(false)),
             C => u64::from(self.c.get(i).copied().unwrap_or(false)),
             SP => u64::from(self.sp.get(i).copied().unwrap_or(false)),
+            S => u64::from(self.s.get(i).copied().unwrap_or(false)),
+            T => u64::from(self.t.get(i).copied().unwrap_or(false)),
+            CT => u64::from(self.ct.get(i).copied().unwrap_or(false)),
             _ => 0,
         }
     }
@@ -251,6 +316,7 @@ impl MachineView for Dl205 {
             X => self.x[i] = on,
             Y => self.y[i] = on,
             C => self.c[i] = on,
+            S => self.s[i] = on,
             _ => return Err(WriteError::NoSuchLocation),
         }
         Ok(())
@@ -294,9 +360,7 @@ impl MachineView for Dl205 {
             .zip(&self.power)
             .filter_map(|(ins, power)| {
                 let on = (*power)?;
-                let skipped = !on
-                    && ins.op.is_output()
-                    && !matches!(ins.op, super::program::Op::Coil(_));
+                let skipped = !on && ins.op.is_output() && !ins.op.always_runs();
                 Some((
                     ins.line,
                     if skipped {
@@ -318,11 +382,10 @@ impl MachineView for Dl205 {
             .and_then(|i| self.program.instrs.get(i as usize))
             .map(|i| i.line)
     }
-    /// SP53 (divide by zero) or SP75 (a non-BCD digit): the DL205's own error flags.
     fn driven_by_scan(&self, loc: Loc) -> bool {
-        use super::program::sp::{SP0, SP1};
-        loc.space == SP && [SP0, SP1].contains(&(loc.index as usize))
+        loc.space == SP && (loc.index as usize) <= super::program::sp::SP7
     }
+    /// SP53 (divide by zero) or SP75 (a non-BCD digit): the DL205's own error flags.
     fn error_lamp(&self) -> bool {
         self.sp[super::program::sp::SP53] || self.sp[super::program::sp::SP75]
     }
@@ -347,7 +410,14 @@ impl MachineView for Dl205 {
             .map(|(i, n)| format!("\"SP{n:o}\":{}", u8::from(self.sp[i])))
             .collect();
         let mut bits = Vec::new();
-        for (kind, values) in [(Kind::X, &self.x_image), (Kind::Y, &self.y), (Kind::C, &self.c)] {
+        for (kind, values) in [
+            (Kind::X, &self.x_image),
+            (Kind::Y, &self.y),
+            (Kind::C, &self.c),
+            (Kind::S, &self.s),
+            (Kind::T, &self.t),
+            (Kind::Ct, &self.ct),
+        ] {
             for (i, _) in values.iter().enumerate().filter(|(_, b)| **b) {
                 bits.push(format!(
                     "\"{}\":1",
@@ -359,7 +429,9 @@ impl MachineView for Dl205 {
             }
         }
         format!(
-            "\"registers\":{{{}}},\"flags\":{{{}}},\"bits\":{{{}}},\"stack_depth\":{}",
+            "\"scan_ms\":{},\"time_ms\":{},\"registers\":{{{}}},\"flags\":{{{}}},\"bits\":{{{}}},\"stack_depth\":{}",
+            self.time.scan_ms,
+            self.time.time_ms(self.tick),
             regs.join(","),
             flags.join(","),
             bits.join(","),

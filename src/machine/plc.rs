@@ -1,0 +1,205 @@
+//! What the scanned PLC dialects share (DL205 and OpenNet): the virtual time base with its
+//! `scan_ms` setting and clock relays, the edge memory of edge contacts, and the arithmetic of
+//! timers and counters that differs between vendors only in units, limits and number format.
+//! Each dialect keeps only its own rules (which relay is which clock, BCD or binary values,
+//! counting up or down); a new scanned PLC reuses this module whole.
+//!
+//! Time is virtual: scan t starts at t × scan_ms ms. Nothing reads a real clock, so a run is
+//! the same on every machine and at every speed the window runs it.
+
+use super::registry::{SettingInfo, Settings};
+
+/// The `scan_ms` setting every scanned PLC offers: the controller time one scan takes.
+pub const SCAN_MS: SettingInfo = SettingInfo {
+    key: "scan_ms",
+    label: "Scan time (ms)",
+    help: "Controller time of one scan: timers and clock relays advance by this much per scan",
+    min: 1.0,
+    max: 1000.0,
+    default: 10.0,
+    integer: true,
+};
+
+/// The scan time of a run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TimeBase {
+    pub scan_ms: u32,
+}
+
+impl Default for TimeBase {
+    fn default() -> Self {
+        TimeBase { scan_ms: 10 }
+    }
+}
+
+impl TimeBase {
+    /// From a dialect's settings (already clamped by the registry; a missing key is the
+    /// default).
+    pub fn from_settings(settings: &Settings) -> Self {
+        let ms = settings
+            .get(SCAN_MS.key)
+            .copied()
+            .unwrap_or(SCAN_MS.default)
+            .clamp(SCAN_MS.min, SCAN_MS.max);
+        TimeBase {
+            scan_ms: ms.round() as u32,
+        }
+    }
+
+    /// Controller time at the start of scan `tick`, in ms.
+    pub fn time_ms(self, tick: u64) -> u64 {
+        tick.saturating_mul(u64::from(self.scan_ms))
+    }
+
+    pub fn micros(self) -> u32 {
+        self.scan_ms * 1000
+    }
+
+    /// Where scan `tick` starts inside a clock's period of `period_ms`, in ms.
+    pub fn phase(self, tick: u64, period_ms: u64) -> u64 {
+        self.time_ms(tick) % period_ms.max(1)
+    }
+
+    /// A clock that is off in the first half of each period and on in the second (DL205's
+    /// SP3–SP6).
+    pub fn late_half(self, tick: u64, period_ms: u64) -> bool {
+        self.phase(tick, period_ms) >= period_ms / 2
+    }
+
+    /// A clock that is on in the first half of each period (OpenNet's M8121–M8123).
+    pub fn early_half(self, tick: u64, period_ms: u64) -> bool {
+        !self.late_half(tick, period_ms)
+    }
+}
+
+/// The memory of each edge instruction: its input at its previous execution, false before
+/// the first (so an input already on at scan 0 fires then).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Edges(pub Vec<bool>);
+
+impl Edges {
+    pub fn new(count: usize) -> Self {
+        Edges(vec![false; count])
+    }
+
+    /// Whether `now` rose since edge `i` last ran; remembers `now`.
+    pub fn rose(&mut self, i: usize, now: bool) -> bool {
+        self.swap(i, now).is_some_and(|was| now && !was)
+    }
+
+    /// Whether `now` fell since edge `i` last ran; remembers `now`.
+    pub fn fell(&mut self, i: usize, now: bool) -> bool {
+        self.swap(i, now).is_some_and(|was| !now && was)
+    }
+
+    fn swap(&mut self, i: usize, now: bool) -> Option<bool> {
+        self.0.get_mut(i).map(|m| std::mem::replace(m, now))
+    }
+
+    pub fn get(&self, i: usize) -> bool {
+        self.0.get(i).copied().unwrap_or(false)
+    }
+}
+
+/// Time toward a timer's next unit: add one scan, get the whole units it completes.
+/// `ms` is what was left over from earlier scans; returns (whole units, ms left).
+pub fn accumulate(ms: u32, scan_ms: u32, unit_ms: u32) -> (u64, u32) {
+    let total = u64::from(ms) + u64::from(scan_ms);
+    let unit = u64::from(unit_ms.max(1));
+    (total / unit, (total % unit) as u32)
+}
+
+/// Counter inputs at the previous execution, for counting on off→on changes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CounterInputs {
+    pub up: bool,
+    pub down: bool,
+}
+
+impl CounterInputs {
+    /// The rises of up and down since the last execution; remembers the new levels.
+    pub fn rises(&mut self, up: bool, down: bool) -> (bool, bool) {
+        let rises = (up && !self.up, down && !self.down);
+        *self = CounterInputs { up, down };
+        rises
+    }
+}
+
+/// What kind of box a timer or counter number belongs to, for panels and explanations.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BoxKind {
+    /// On-delay timer that resets when its enable drops.
+    Timer,
+    /// Accumulating timer: keeps its time while disabled, has its own reset.
+    AccumulatingTimer,
+    Counter,
+    UpDownCounter,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn time_and_clocks() {
+        let t = TimeBase { scan_ms: 10 };
+        assert_eq!(t.time_ms(300), 3000);
+        // A 100 ms clock: off for scans 0–4, on for 5–9.
+        let late: Vec<bool> = (0..10).map(|k| t.late_half(k, 100)).collect();
+        assert_eq!(
+            late,
+            [
+                false, false, false, false, false, true, true, true, true, true
+            ]
+        );
+        assert!(t.early_half(0, 100) && !t.early_half(5, 100));
+        // With 1000 ms scans a 1 s clock aliases: always at phase 0.
+        let slow = TimeBase { scan_ms: 1000 };
+        assert!((0..10).all(|k| !slow.late_half(k, 1000)));
+    }
+
+    #[test]
+    fn settings_give_the_scan_time() {
+        let mut s = Settings::new();
+        assert_eq!(TimeBase::from_settings(&s).scan_ms, 10);
+        s.insert("scan_ms".into(), 25.0);
+        assert_eq!(TimeBase::from_settings(&s).scan_ms, 25);
+        s.insert("scan_ms".into(), 5000.0);
+        assert_eq!(TimeBase::from_settings(&s).scan_ms, 1000);
+    }
+
+    #[test]
+    fn edges_fire_once_per_change() {
+        let mut e = Edges::new(2);
+        assert!(
+            e.rose(0, true),
+            "an input already on fires at its first execution"
+        );
+        assert!(!e.rose(0, true));
+        assert!(e.fell(0, false));
+        assert!(!e.fell(0, false));
+        assert!(!e.rose(7, true), "no such edge: nothing fires");
+    }
+
+    #[test]
+    fn accumulate_carries_the_remainder() {
+        // 30 ms scans toward 100 ms units: 0.3, 0.6, 0.9, then 1 unit with 20 ms left.
+        let mut ms = 0;
+        let mut units = 0;
+        for _ in 0..4 {
+            let (u, left) = accumulate(ms, 30, 100);
+            units += u;
+            ms = left;
+        }
+        assert_eq!((units, ms), (1, 20));
+        assert_eq!(accumulate(0, 1000, 10), (100, 0));
+    }
+
+    #[test]
+    fn counters_count_rises_only() {
+        let mut c = CounterInputs::default();
+        assert_eq!(c.rises(true, false), (true, false));
+        assert_eq!(c.rises(true, false), (false, false));
+        assert_eq!(c.rises(false, true), (false, true));
+    }
+}
