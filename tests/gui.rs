@@ -1295,6 +1295,45 @@ fn sp0_and_sp1_are_unlit_before_the_first_scan() {
     );
 }
 
+/// Issue #22 item 18: at 900×600 the plot's buttons stay on one row above the plot (they
+/// wrapped over the axis label) and one error's Problems list is as tall as its rows (it took
+/// a third of the program's room).
+#[test]
+fn at_900x600_the_plot_buttons_fit_one_row_and_problems_fit_their_rows() {
+    let tml = servoscope::machine::registry::by_name("tml").expect("registered");
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.load_program_as(
+        tml,
+        "moves.tml",
+        include_str!("../assets/examples/moves.tml"),
+    );
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(900.0, 600.0))
+        .build_ui_state(|ui, app: &mut ServoscopeApp| app.show(ui), app);
+    h.run_steps(3);
+    let fit = h.get_by_label("Fit").rect();
+    let csv = h.get_by_label("CSV…").rect();
+    let channels = h.get_by_label("Channels").rect();
+    assert!(
+        (fit.top() - csv.top()).abs() < 1.0 && (channels.top() - csv.top()).abs() < 1.0,
+        "one row: {fit:?} {channels:?} {csv:?}"
+    );
+
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.load_program_as(tml, "bad.tml", "int a;\na = ;\n");
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(900.0, 600.0))
+        .build_ui_state(|ui, app: &mut ServoscopeApp| app.show(ui), app);
+    h.run_steps(3);
+    let header = h.get_by_label_contains("Problems (1)").rect();
+    let pane_bottom = h.get_by_label("Timeline").rect().top();
+    assert!(
+        pane_bottom - header.top() < 80.0,
+        "the list is as tall as its one row: from {} to {pane_bottom}",
+        header.top()
+    );
+}
+
 #[test]
 fn a_session_with_a_breakpoint_past_the_end_opens_and_says_what_it_dropped() {
     let dir = std::env::temp_dir().join(format!("servoscope-gui-far-{}", std::process::id()));

@@ -47,6 +47,8 @@ pub struct CodeView {
     pub edit_long: bool,
     /// The row view's visible height, from the last frame.
     pub viewport_height: f32,
+    /// The editor's visible height when the line about to run was last kept in view.
+    pc_view_height: f32,
 }
 
 /// A place in the text: 1-based line and column (in characters), and how many characters
@@ -534,7 +536,16 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                     rows.visible(clip.top(), clip.bottom()),
                     p.error,
                 ));
-                let scroll_to = jump.map(|j| j.line).or_else(|| pc_moved(view, pc_line));
+                // When the pane's height changes (the window is laid out, or resized) the line
+                // about to run is brought back into view if it fell out of it.
+                let resized = (view.pc_view_height - clip.height()).abs() > 0.5;
+                view.pc_view_height = clip.height();
+                let pc_hidden =
+                    pc_line.is_some_and(|l| !rows.visible(clip.top(), clip.bottom()).contains(&l));
+                let scroll_to = jump
+                    .map(|j| j.line)
+                    .or_else(|| pc_moved(view, pc_line))
+                    .or(if resized && pc_hidden { pc_line } else { None });
                 if let Some(rect) = scroll_to.and_then(|line| rows.rect(line)) {
                     // Two lines of margin, so the line never hides under a scroll bar.
                     // Only vertically: from the gutter's edge, so the line numbers stay in view

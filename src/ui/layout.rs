@@ -213,7 +213,8 @@ impl Layout {
             &[(program, 1.4), (timeline, 0.2), (lower, 1.0)],
         );
         set_shares(&mut tiles, right, &[(registers, 3.0), (bits, 2.0)]);
-        // The plot is the widest thing down there.
+        // The panels beside the plot (queue rings, stacks, tables) need the width more: the
+        // plot reads at any width.
         let mut shares: Vec<(TileId, f32)> = beside_plot.into_iter().map(|t| (t, 1.0)).collect();
         shares.push((plot, 0.8));
         set_shares(&mut tiles, lower, &shares);

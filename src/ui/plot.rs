@@ -145,6 +145,11 @@ fn steps_125(input: egui_plot::GridInput) -> [f64; 3] {
 /// One time axis (ticks, or ms) under the last plot. egui_plot drops a plot's axes altogether
 /// when they leave no room for data, so their room is set aside first.
 const X_AXIS_HEIGHT: f32 = 34.0;
+/// Below this pane height the readout line goes into a tooltip.
+const READOUT_LINE_FROM: f32 = 200.0;
+/// Room right of the plot for half the last time label.
+const PLOT_RIGHT_MARGIN: f32 = 14.0;
+const PLOT_LEFT_MARGIN: f32 = 3.0;
 
 /// Below this panel height only the tick axis is drawn (the readout still gives ms).
 const BOTH_AXES_FROM: f32 = 260.0;
@@ -318,16 +323,22 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut PlotView, out: &m
     let now = machine.ticks();
     let micros = f64::from(machine.tick_micros());
     let ticks_word = debugger.dialect().vocabulary.tick;
+    // In a narrow pane the buttons take short names, so they stay on one row above the plot.
+    let narrow = ui.available_width() < 300.0;
     ui.horizontal_wrapped(|ui| {
         if ui
-            .button("Reset view")
+            .button(if narrow { "Fit" } else { "Reset view" })
             .on_hover_text("Show everything and follow the newest data")
             .clicked()
         {
             view.reset();
         }
         super::form_menu_button(ui, "Channels", |ui| channel_editor(ui, debugger, view, out));
-        if ui.button("Export CSV…").clicked() {
+        if ui
+            .button(if narrow { "CSV…" } else { "Export CSV…" })
+            .on_hover_text("Export the plotted channels as CSV")
+            .clicked()
+        {
             out.push(Command::ExportDialog);
         }
         if !view.following {
@@ -365,7 +376,14 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut PlotView, out: &m
     // gets the most room. Nothing is drawn past the panel's edge.
     let rows = groups.len() as f32;
     let spacing = ui.spacing().item_spacing.y;
-    let readout_height = ui.text_style_height(&egui::TextStyle::Small) + spacing;
+    // A short pane gives the readout line's room to the plot; hovering still reads values,
+    // in a tooltip.
+    let readout_line = ui.available_height() >= READOUT_LINE_FROM;
+    let readout_height = if readout_line {
+        ui.text_style_height(&egui::TextStyle::Small) + spacing
+    } else {
+        0.0
+    };
     let both_axes = ui.available_height() >= BOTH_AXES_FROM;
     let x_axes_height = if both_axes { 2.0 } else { 1.0 } * X_AXIS_HEIGHT;
     let room = (ui.available_height() - readout_height - spacing * rows - x_axes_height).max(0.0);
@@ -443,79 +461,89 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut PlotView, out: &m
         if reset {
             plot = plot.reset();
         }
-        let response = plot.show(ui, |plot_ui| {
-            if view.following || reset {
-                plot_ui.set_plot_bounds_x(follow_range.0..=follow_range.1);
-            }
-            // A plain mouse wheel only scrolls up and down: here that moves along time (y is
-            // never scrolled, it fits the data).
-            let (wheel, zooming) = plot_ui.ctx().input(|i| {
-                (
-                    i.smooth_scroll_delta.y,
-                    i.modifiers.command || i.modifiers.ctrl,
-                )
-            });
-            if wheel != 0.0 && !zooming && plot_ui.response().hovered() {
-                plot_ui.translate_bounds(egui::vec2(wheel, 0.0));
-            }
-            let bounds = plot_ui.plot_bounds();
-            let (x0, x1) = (bounds.min()[0], bounds.max()[0]);
-            let columns = plot_ui.response().rect.width().max(1.0) as usize;
-            let lines: Vec<(usize, &Channel, Vec<[f64; 2]>)> = members
-                .iter()
-                .map(|&(index, channel)| {
-                    let mut points = view.points(trace, index, x0, x1, columns);
-                    // Decimated on the stored integers (BCD and Q16.16 keep their order), drawn
-                    // in the location's reading.
-                    if channel.reading_name().is_some() {
-                        for p in &mut points {
-                            p[1] = channel.plotted(p[1] as i64);
-                        }
+        // Room at the right for the last time label, which is centred on its tick.
+        plot = plot.width((ui.available_width() - PLOT_RIGHT_MARGIN - PLOT_LEFT_MARGIN).max(60.0));
+        // And a little at the left, where the rotated axis label's first letter would touch
+        // the pane's edge.
+        let response = ui
+            .horizontal(|ui| {
+                ui.spacing_mut().item_spacing.x = 0.0;
+                ui.add_space(PLOT_LEFT_MARGIN);
+                plot.show(ui, |plot_ui| {
+                    if view.following || reset {
+                        plot_ui.set_plot_bounds_x(follow_range.0..=follow_range.1);
                     }
-                    (index, channel, points)
+                    // A plain mouse wheel only scrolls up and down: here that moves along time (y is
+                    // never scrolled, it fits the data).
+                    let (wheel, zooming) = plot_ui.ctx().input(|i| {
+                        (
+                            i.smooth_scroll_delta.y,
+                            i.modifiers.command || i.modifiers.ctrl,
+                        )
+                    });
+                    if wheel != 0.0 && !zooming && plot_ui.response().hovered() {
+                        plot_ui.translate_bounds(egui::vec2(wheel, 0.0));
+                    }
+                    let bounds = plot_ui.plot_bounds();
+                    let (x0, x1) = (bounds.min()[0], bounds.max()[0]);
+                    let columns = plot_ui.response().rect.width().max(1.0) as usize;
+                    let lines: Vec<(usize, &Channel, Vec<[f64; 2]>)> = members
+                        .iter()
+                        .map(|&(index, channel)| {
+                            let mut points = view.points(trace, index, x0, x1, columns);
+                            // Decimated on the stored integers (BCD and Q16.16 keep their order), drawn
+                            // in the location's reading.
+                            if channel.reading_name().is_some() {
+                                for p in &mut points {
+                                    p[1] = channel.plotted(p[1] as i64);
+                                }
+                            }
+                            (index, channel, points)
+                        })
+                        .collect();
+                    let markers = if row == 0 {
+                        machine.plot_markers()
+                    } else {
+                        Vec::new()
+                    };
+                    let range = y_range(
+                        lines
+                            .iter()
+                            .flat_map(|(_, _, pts)| pts.iter().map(|p| p[1]))
+                            .chain(markers.iter().map(|(_, v)| *v as f64)),
+                    );
+                    for (label, value) in &markers {
+                        plot_ui.hline(
+                            egui_plot::HLine::new(label.as_str(), *value as f64)
+                                .color(p.dim)
+                                .style(egui_plot::LineStyle::dashed_loose()),
+                        );
+                    }
+                    plot_ui.set_plot_bounds_y(range.0..=range.1);
+                    frames.push(PlotFrame {
+                        rect: *plot_ui.transform().frame(),
+                        x: (x0, x1),
+                        y: range,
+                    });
+                    for (index, channel, points) in lines {
+                        plot_ui.line(
+                            Line::new(channel.titled(), PlotPoints::from(points))
+                                .color(colour(&p, index))
+                                .width(1.5),
+                        );
+                    }
+                    plot_ui.vline(
+                        VLine::new("", now as f64)
+                            .color(p.text.gamma_multiply(0.6))
+                            .width(1.0),
+                    );
+                    if let Some(t) = view.selected_tick {
+                        plot_ui.vline(VLine::new("", t as f64).color(p.dim).width(1.0));
+                    }
+                    plot_ui.pointer_coordinate()
                 })
-                .collect();
-            let markers = if row == 0 {
-                machine.plot_markers()
-            } else {
-                Vec::new()
-            };
-            let range = y_range(
-                lines
-                    .iter()
-                    .flat_map(|(_, _, pts)| pts.iter().map(|p| p[1]))
-                    .chain(markers.iter().map(|(_, v)| *v as f64)),
-            );
-            for (label, value) in &markers {
-                plot_ui.hline(
-                    egui_plot::HLine::new(label.as_str(), *value as f64)
-                        .color(p.dim)
-                        .style(egui_plot::LineStyle::dashed_loose()),
-                );
-            }
-            plot_ui.set_plot_bounds_y(range.0..=range.1);
-            frames.push(PlotFrame {
-                rect: *plot_ui.transform().frame(),
-                x: (x0, x1),
-                y: range,
-            });
-            for (index, channel, points) in lines {
-                plot_ui.line(
-                    Line::new(channel.titled(), PlotPoints::from(points))
-                        .color(colour(&p, index))
-                        .width(1.5),
-                );
-            }
-            plot_ui.vline(
-                VLine::new("", now as f64)
-                    .color(p.text.gamma_multiply(0.6))
-                    .width(1.0),
-            );
-            if let Some(t) = view.selected_tick {
-                plot_ui.vline(VLine::new("", t as f64).color(p.dim).width(1.0));
-            }
-            plot_ui.pointer_coordinate()
-        });
+            })
+            .inner;
         let r = &response.response;
         if r.dragged()
             || (r.hovered()
@@ -554,7 +582,17 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut PlotView, out: &m
         .unwrap_or_else(|| {
             format!("Hover the plot to read values; click to go to that {ticks_word}.")
         });
-    ui.label(RichText::new(text).monospace().small());
+    if readout_line {
+        ui.label(RichText::new(text).monospace().small());
+    } else if hovered.is_some() {
+        egui::Tooltip::always_open(
+            ui.ctx().clone(),
+            ui.layer_id(),
+            egui::Id::unique("plot_readout"),
+            egui::PopupAnchor::Pointer,
+        )
+        .show(|ui| ui.label(RichText::new(text).monospace().small()));
+    }
 }
 
 #[cfg(test)]

@@ -594,8 +594,13 @@ fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView, out: &
                         .iter()
                         .find(|(n, l)| *l == loc && *n != info.name)
                         .map(|(n, _)| n.as_str());
-                    let name = info.alias.or(own).or(space_title).unwrap_or("");
-                    ui.label(RichText::new(name).small().color(p.dim));
+                    // A space's title on its first row is a group heading, not a name:
+                    // set apart in italics. Readable size at any window size.
+                    let text = match info.alias.or(own) {
+                        Some(name) => RichText::new(name),
+                        None => RichText::new(space_title.unwrap_or("")).italics(),
+                    };
+                    ui.label(text.size(11.5).color(p.dim));
                 });
                 row.col(|ui| {
                     let mut shown = RichText::new(format.show(raw, info.width))

@@ -35,7 +35,7 @@ impl DialectPanel for StackPanel {
             return;
         };
         let p = palette(ui.visuals().dark_mode);
-        egui::ScrollArea::vertical()
+        egui::ScrollArea::both()
             .id_salt("dl205_stack")
             .auto_shrink([false, false])
             .show(ui, |ui| {
@@ -79,13 +79,13 @@ impl DialectPanel for StackPanel {
                             ui.monospace(RichText::new(format!("L{}", level + 1)).color(colour));
                             ui.monospace(RichText::new(format!("{v:08X}")).color(colour));
                             ui.monospace(RichText::new(bcd_text(v)).color(colour));
-                            ui.label(RichText::new(note).small().color(p.written));
+                            ui.label(RichText::new(note).size(12.0).color(p.written));
                             ui.end_row();
                         }
                     });
                 ui.label(
                     RichText::new(format!("depth {} of {LEVELS}", m.depth))
-                        .small()
+                        .size(12.0)
                         .color(p.dim),
                 );
                 ui.separator();
@@ -140,7 +140,7 @@ impl DialectPanel for RungPanel {
             .find(|&&s| s > at)
             .copied()
             .unwrap_or(instrs.len());
-        egui::ScrollArea::vertical()
+        egui::ScrollArea::both()
             .id_salt("dl205_rung")
             .auto_shrink([false, false])
             .show(ui, |ui| {

@@ -43,7 +43,7 @@ impl DialectPanel for DataPanel {
         };
         let p = palette(ui.visuals().dark_mode);
         let ty = current_type(m);
-        egui::ScrollArea::vertical()
+        egui::ScrollArea::both()
             .id_salt("opennet_data")
             .auto_shrink([false, false])
             .show(ui, |ui| {
@@ -169,7 +169,7 @@ impl DialectPanel for LogicPanel {
             return;
         };
         let p = palette(ui.visuals().dark_mode);
-        egui::ScrollArea::vertical()
+        egui::ScrollArea::both()
             .id_salt("opennet_logic")
             .auto_shrink([false, false])
             .show(ui, |ui| {

@@ -154,7 +154,7 @@ impl DialectPanel for DrivePanel {
             return;
         };
         let p = palette(ui.visuals().dark_mode);
-        egui::ScrollArea::vertical()
+        egui::ScrollArea::both()
             .id_salt("drive_scroll")
             .auto_shrink([false, false])
             .show(ui, |ui| {
