@@ -1334,6 +1334,34 @@ fn at_900x600_the_plot_buttons_fit_one_row_and_problems_fit_their_rows() {
     );
 }
 
+/// Issue #23: the Timers & counters panel shows each box with its preset, its current value
+/// as time, and its done bit; clicking the box shows its line.
+#[test]
+fn the_timers_panel_shows_time_and_done() {
+    let dl205 = servoscope::machine::registry::by_name("dl205").expect("registered");
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.load_program_as(
+        dl205,
+        "traffic_light.dl205",
+        include_str!("../assets/examples/traffic_light.dl205"),
+    );
+    let mut h = harness(app);
+    h.get_by_label("Timers & counters").click();
+    h.run_steps(2);
+    h.get_by_label("TMR T0");
+    h.get_by_label("T0 not done");
+    h.state_mut().debugger.goto_tick(300);
+    h.run_steps(2);
+    h.get_by_label("TA0 = 3.0 s");
+    h.get_by_label("12.0 s");
+    h.state_mut().debugger.goto_tick(1200);
+    h.run_steps(2);
+    h.get_by_label("T0 done");
+    h.get_by_label("TMR T0").click();
+    h.run_steps(2);
+    assert_eq!(h.state().code.cursor_line, Some(7));
+}
+
 #[test]
 fn a_session_with_a_breakpoint_past_the_end_opens_and_says_what_it_dropped() {
     let dir = std::env::temp_dir().join(format!("servoscope-gui-far-{}", std::process::id()));

@@ -30,6 +30,14 @@ pub static DIALECT: Dialect = Dialect {
         ),
         ("latch.dl205", include_str!("../../../assets/examples/latch.dl205")),
         ("nonbcd.dl205", include_str!("../../../assets/examples/nonbcd.dl205")),
+        (
+            "traffic_light.dl205",
+            include_str!("../../../assets/examples/traffic_light.dl205"),
+        ),
+        (
+            "parts_counter.dl205",
+            include_str!("../../../assets/examples/parts_counter.dl205"),
+        ),
     ],
     lessons: &[(
         "dl205_subs_lesson.ron",

@@ -767,6 +767,38 @@ impl Dl205 {
         }
     }
 
+    /// Every timer and counter box for the Timers & counters panel, in program order.
+    pub fn boxes(&self) -> Vec<crate::machine::plc::BoxRow> {
+        self.program
+            .boxes
+            .iter()
+            .filter_map(|b| {
+                let ins = self.program.instrs.get(b.instr)?;
+                let (mnemonic, unit_ms) = match ins.op {
+                    Op::Timer(k, ..) => (k.mnemonic(), Some(k.unit_ms())),
+                    Op::Counter(k, ..) => (k.mnemonic(), None),
+                    _ => return None,
+                };
+                let status = program::bit_name(b.status);
+                let raw = self.box_value(program::current_word(b.status.kind, b.status.n), b.words);
+                let digits = 4 * b.words;
+                Some(crate::machine::plc::BoxRow {
+                    title: format!("{mnemonic} {status}"),
+                    preset_from: ins.text.split_whitespace().nth(2).unwrap_or("").to_string(),
+                    preset: bcd_value(self.preset(b.preset), digits),
+                    value_at: format!("{}A{:o}", b.status.kind.letter(), b.status.n),
+                    value: bcd_value(raw, digits),
+                    raw: u64::from(raw),
+                    max: if b.words == 2 { 99_999_999 } else { 9_999 },
+                    unit_ms,
+                    done: self.bit(b.status),
+                    line: ins.line,
+                    status,
+                })
+            })
+            .collect()
+    }
+
     /// CMP/CMPD: SP60 less, SP61 equal, SP62 greater (unsigned).
     fn compare(&mut self, a: u32, b: u32) {
         self.sp[sp::SP60] = a < b;

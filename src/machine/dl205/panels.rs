@@ -11,7 +11,13 @@ use crate::ui::panels::DialectPanel;
 use crate::ui::theme::palette;
 
 pub fn panels() -> Vec<Box<dyn DialectPanel>> {
-    vec![Box::new(StackPanel::default()), Box::new(RungPanel)]
+    vec![
+        Box::new(StackPanel::default()),
+        Box::new(RungPanel),
+        Box::new(crate::machine::plc::panel::BoxesPanel {
+            rows: |debugger| debugger.machine_as::<Dl205>().map(Dl205::boxes),
+        }),
+    ]
 }
 
 fn bcd_text(v: u32) -> String {

@@ -9,6 +9,9 @@
 
 use super::registry::{SettingInfo, Settings};
 
+#[cfg(feature = "gui")]
+pub mod panel;
+
 /// The `scan_ms` setting every scanned PLC offers: the controller time one scan takes.
 pub const SCAN_MS: SettingInfo = SettingInfo {
     key: "scan_ms",
@@ -125,15 +128,66 @@ impl CounterInputs {
     }
 }
 
-/// What kind of box a timer or counter number belongs to, for panels and explanations.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum BoxKind {
-    /// On-delay timer that resets when its enable drops.
-    Timer,
-    /// Accumulating timer: keeps its time while disabled, has its own reset.
-    AccumulatingTimer,
-    Counter,
-    UpDownCounter,
+/// One timer or counter box as the Timers & counters panel shows it: the dialect decodes its
+/// own number format (DL205 BCD, OpenNet binary) into these.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BoxRow {
+    /// The box as written: `TMR T1`, `CNT CT3`.
+    pub title: String,
+    /// The status bit's name (`T1`), for the done chip.
+    pub status: String,
+    /// The preset as written (`K30`, `V2000`) and its value, None when it is not a number in
+    /// the dialect's format.
+    pub preset_from: String,
+    pub preset: Option<u64>,
+    /// The current value's location (`TA1`, `V1`) and its value (None: not in the format).
+    pub value_at: String,
+    pub value: Option<u64>,
+    /// The raw current value, shown when it does not decode.
+    pub raw: u64,
+    pub max: u64,
+    /// Timers: the unit in ms, to show time; None for counters.
+    pub unit_ms: Option<u32>,
+    pub done: bool,
+    /// Source line of the box.
+    pub line: usize,
+}
+
+impl BoxRow {
+    /// Progress toward the preset, 0–1 (a preset of 0 is reached at once).
+    pub fn progress(&self) -> f32 {
+        match (self.value, self.preset) {
+            (Some(v), Some(p)) if p > 0 => (v as f32 / p as f32).min(1.0),
+            (Some(_), Some(_)) => 1.0,
+            _ => 0.0,
+        }
+    }
+
+    /// A value in the box's terms: "2.9 s" for a 100 ms timer holding 29, "29" for a counter.
+    pub fn amount(&self, v: u64) -> String {
+        match self.unit_ms {
+            Some(unit) => {
+                let ms = v * u64::from(unit);
+                let decimals = if unit >= 100 { 1 } else { 2 };
+                let per = u64::from(unit);
+                format!("{}.{:0decimals$} s", ms / 1000, (ms % 1000) / per)
+            }
+            None => v.to_string(),
+        }
+    }
+
+    /// What is special about the box now: at its maximum, or data not in the format.
+    pub fn note(&self) -> Option<String> {
+        match (self.value, self.preset) {
+            (None, _) => Some(format!(
+                "{} = {:X} is not BCD: not counted (SP75)",
+                self.value_at, self.raw
+            )),
+            (_, None) => Some("the preset is not BCD (SP75)".to_string()),
+            (Some(v), _) if v >= self.max => Some("at its maximum".to_string()),
+            _ => None,
+        }
+    }
 }
 
 #[cfg(test)]
@@ -193,6 +247,42 @@ mod tests {
         }
         assert_eq!((units, ms), (1, 20));
         assert_eq!(accumulate(0, 1000, 10), (100, 0));
+    }
+
+    #[test]
+    fn box_rows_speak_time_and_progress() {
+        let row = BoxRow {
+            title: "TMR T1".into(),
+            status: "T1".into(),
+            preset_from: "K30".into(),
+            preset: Some(30),
+            value_at: "TA1".into(),
+            value: Some(29),
+            raw: 0x29,
+            max: 9999,
+            unit_ms: Some(100),
+            done: false,
+            line: 2,
+        };
+        assert_eq!(row.amount(29), "2.9 s");
+        assert!((row.progress() - 29.0 / 30.0).abs() < 1e-6);
+        assert_eq!(row.note(), None);
+        let fast = BoxRow {
+            unit_ms: Some(10),
+            ..row.clone()
+        };
+        assert_eq!(fast.amount(29), "0.29 s");
+        let bad = BoxRow {
+            value: None,
+            raw: 0xA0,
+            ..row.clone()
+        };
+        assert!(bad.note().is_some_and(|n| n.contains("A0 is not BCD")));
+        let full = BoxRow {
+            value: Some(9999),
+            ..row
+        };
+        assert_eq!(full.note().as_deref(), Some("at its maximum"));
     }
 
     #[test]
