@@ -659,3 +659,15 @@ fn a_fixed_literal_without_its_leading_zero_says_how_to_write_it() {
     let e = errors("fixed f;\nf = -.25;\nEND;");
     assert!(e[0].contains("write 0.25"), "{e:?}");
 }
+
+/// Issue #22 (second look): a missing value is reported where it is missing, just past the
+/// '=', not at the variable.
+#[test]
+fn a_missing_value_points_past_the_equals_sign() {
+    let e = errors("int a;\na = ;\n");
+    assert_eq!(e.len(), 1, "{e:?}");
+    assert!(
+        e[0].starts_with("2:4: error: expected a value after '='"),
+        "{e:?}"
+    );
+}

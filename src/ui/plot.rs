@@ -380,7 +380,7 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut PlotView, out: &m
     // in a tooltip.
     let readout_line = ui.available_height() >= READOUT_LINE_FROM;
     let readout_height = if readout_line {
-        ui.text_style_height(&egui::TextStyle::Small) + spacing
+        ui.fonts_mut(|f| f.row_height(&egui::FontId::monospace(12.0))) + spacing
     } else {
         0.0
     };
@@ -441,7 +441,12 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut PlotView, out: &m
         let plot_height = if row == 0 { main_height } else { small_height };
         // A legend in a plot this short would hide its data.
         if members.len() > 1 && plot_height >= 80.0 {
-            plot = plot.legend(Legend::default().position(egui_plot::Corner::LeftTop));
+            // See-through, so a curve under the legend still shows.
+            plot = plot.legend(
+                Legend::default()
+                    .position(egui_plot::Corner::LeftTop)
+                    .background_alpha(0.35),
+            );
         }
         plot = if last {
             let mut axes = vec![
@@ -583,7 +588,7 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut PlotView, out: &m
             format!("Hover the plot to read values; click to go to that {ticks_word}.")
         });
     if readout_line {
-        ui.label(RichText::new(text).monospace().small());
+        ui.label(RichText::new(text).monospace().size(12.0));
     } else if hovered.is_some() {
         egui::Tooltip::always_open(
             ui.ctx().clone(),
@@ -591,7 +596,7 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut PlotView, out: &m
             egui::Id::unique("plot_readout"),
             egui::PopupAnchor::Pointer,
         )
-        .show(|ui| ui.label(RichText::new(text).monospace().small()));
+        .show(|ui| ui.label(RichText::new(text).monospace().size(12.0)));
     }
 }
 

@@ -93,15 +93,29 @@ pub fn rate_text(ticks_per_second: f64, tick_micros: u32, ticks: &str) -> String
         format!("{:.1} M ", ticks_per_second / 1e6)
     } else if ticks_per_second >= 1e3 {
         format!("{:.1} k ", ticks_per_second / 1e3)
-    } else {
+    } else if ticks_per_second >= 10.0 {
         format!("{ticks_per_second:.0} ")
+    } else {
+        // A slow run (10 instructions a second through a long scan) is not "0 scans/s".
+        format!("{} ", two_significant(ticks_per_second))
     };
     let factor = if real_time >= 10.0 {
         crate::machine::value::group_thousands(real_time.round() as u64)
-    } else {
+    } else if real_time >= 0.01 || real_time == 0.0 {
         format!("{real_time:.2}")
+    } else {
+        two_significant(real_time)
     };
     format!("{rate}{ticks}/s (×{factor} real time)")
+}
+
+/// A small positive number to two significant digits: 0.55, 0.0055.
+fn two_significant(v: f64) -> String {
+    if v <= 0.0 || !v.is_finite() {
+        return "0".into();
+    }
+    let decimals = (1.0 - v.log10().floor()).max(0.0) as usize;
+    format!("{v:.decimals$}")
 }
 
 pub fn fault_banner(ui: &mut egui::Ui, debugger: &Debugger) {
@@ -189,6 +203,11 @@ mod tests {
         assert_eq!(
             rate_text(40.0, 1000, "scans"),
             "40 scans/s (×0.04 real time)"
+        );
+        // 10 instructions a second through an 18-instruction scan of 10 ms: not "0 scans/s".
+        assert_eq!(
+            rate_text(10.0 / 18.0, 10_000, "scans"),
+            "0.56 scans/s (×0.0056 real time)"
         );
     }
 }

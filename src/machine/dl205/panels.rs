@@ -67,8 +67,11 @@ impl DialectPanel for StackPanel {
                             _ => "",
                         };
                         ui.monospace(RichText::new("ACC").strong());
-                        ui.monospace(format!("{:08X}", m.acc));
-                        ui.monospace(bcd_text(m.acc));
+                        // As bright as the levels below it (the default text colour read
+                        // as greyed out beside them).
+                        let acc_colour = if acc_note.is_empty() { p.text } else { p.written };
+                        ui.monospace(RichText::new(format!("{:08X}", m.acc)).color(acc_colour));
+                        ui.monospace(RichText::new(bcd_text(m.acc)).color(acc_colour));
                         ui.label(RichText::new(acc_note).color(p.written));
                         ui.end_row();
                         for level in 0..LEVELS {

@@ -17,14 +17,20 @@ pub fn panels() -> Vec<Box<dyn DialectPanel>> {
 }
 
 /// The type of the instruction about to run (or last run), which picks the reading.
-fn current_type(m: &OpenNet) -> Option<Ty> {
-    let at = |i: u32| m.program.instrs.get(i as usize).map(|x| x.op);
-    [at(m.pc), m.last.and_then(at)]
+/// The data type of the instruction about to run, or else of the one just run: with its line
+/// and which of the two it is, so the panel says whose reading it shows.
+fn current_type(m: &OpenNet) -> Option<(Ty, usize, &'static str)> {
+    let at = |i: u32| m.program.instrs.get(i as usize);
+    [(at(m.pc), "next to run"), (m.last.and_then(at), "just run")]
         .into_iter()
-        .flatten()
-        .find_map(|op| match op {
-            Op::Mov { ty, .. } | Op::Arith { ty, .. } | Op::Step { ty, .. } => Some(ty),
-            _ => None,
+        .find_map(|(instr, when)| {
+            let instr = instr?;
+            match instr.op {
+                Op::Mov { ty, .. } | Op::Arith { ty, .. } | Op::Step { ty, .. } => {
+                    Some((ty, instr.line, when))
+                }
+                _ => None,
+            }
         })
 }
 
@@ -42,14 +48,18 @@ impl DialectPanel for DataPanel {
             return;
         };
         let p = palette(ui.visuals().dark_mode);
-        let ty = current_type(m);
+        let at_hand = current_type(m);
+        let ty = at_hand.map(|(t, _, _)| t);
         egui::ScrollArea::both()
             .id_salt("opennet_data")
             .auto_shrink([false, false])
             .show(ui, |ui| {
                 ui.label(
                     RichText::new(match ty {
-                        Some(t) => format!("Read as {} (the instruction at hand)", t.letter()),
+                        Some(t) => {
+                            let (_, line, when) = at_hand.unwrap_or((t, 0, ""));
+                            format!("Read as {} (line {line}, {when})", t.letter())
+                        }
                         None => "Each register as W and I, each pair as D and L".into(),
                     })
                     .color(p.dim),
@@ -86,7 +96,7 @@ impl DialectPanel for DataPanel {
                     });
                 ui.label(
                     RichText::new("A pair Dn·Dn+1 keeps its upper word in Dn.")
-                        .small()
+                        .size(12.0)
                         .color(p.dim),
                 );
                 ui.separator();

@@ -612,7 +612,9 @@ fn assignment(ts: &[Token], at: &mut usize, names: &mut Names, lhs: Operand, lhs
         *at += 1;
     }
     let Some(t) = ts.get(*at).cloned() else {
-        return err(lhs_tok.col, lhs_tok.len, "expected a value after '='");
+        // Point just past the '=' (or the '-'), where the value is missing.
+        let before = at.checked_sub(1).and_then(|i| ts.get(i)).unwrap_or(lhs_tok);
+        return err(before.col + before.len, 1, "expected a value after '='");
     };
     if let Tok::Ident(name) = &t.tok
         && names.labels.contains_key(&name.to_ascii_uppercase())
