@@ -60,6 +60,49 @@ pub fn dl205_program() -> String {
     src
 }
 
+/// A 100-instruction DL205 scan of what ladder programs are made of: 8 timers (TMR, TMRA), 8
+/// counters (CNT, UDC) with their legs, edge contacts and PD, contacts on the status bits and
+/// a little BCD math on the current values.
+pub fn dl205_boxes_program() -> String {
+    let mut src = String::new();
+    for n in 0..4 {
+        src.push_str(&format!("STR SP1\nTMR T{n} K30\n"));
+        src.push_str(&format!("STR SP4\nSTR X1\nTMRA T{} K50\n", 10 + 2 * n));
+        src.push_str(&format!("STR SP5\nSTR X2\nCNT CT{n} K10\n"));
+        src.push_str(&format!(
+            "STR SP5\nSTR SP6\nSTR X3\nUDC CT{} K100\n",
+            10 + 2 * n
+        ));
+    }
+    for n in 0..4 {
+        src.push_str(&format!("STR T{n}\nAND CT{n}\nOUT Y{n}\n"));
+        src.push_str(&format!("STRPD T{n}\nORND CT{n}\nPD C{n}\n"));
+    }
+    let math = [
+        "STR SP1",
+        "LD V0",
+        "ADD V1",
+        "OUT V2000",
+        "LD V1000",
+        "CMP K5",
+        "STR SP61",
+        "OUT C20",
+    ];
+    let mut count = src.lines().count();
+    'fill: loop {
+        for i in math {
+            if count == 99 {
+                break 'fill;
+            }
+            src.push_str(i);
+            src.push('\n');
+            count += 1;
+        }
+    }
+    src.push_str("END\n");
+    src
+}
+
 /// Ten statements a round: 16- and 32-bit adds, a multiply into PREG, a fixed division, a
 /// shift, a read of PRODH and a conditional jump.
 pub const TML_ARITHMETIC: &str = "\

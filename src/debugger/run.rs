@@ -159,7 +159,7 @@ impl Event {
     }
 }
 
-/// Ticks per second over the last half second of a run.
+/// Ticks per second over the last half second of a run (longer when no tick completes).
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct RateMeter {
     window: Option<(Instant, u64)>,
@@ -167,12 +167,23 @@ pub(crate) struct RateMeter {
 }
 
 impl RateMeter {
+    #[cfg(test)]
+    fn at(since: Instant, from: u64) -> Self {
+        RateMeter {
+            window: Some((since, from)),
+            rate: None,
+        }
+    }
+
     pub fn note(&mut self, tick: u64) {
         let now = Instant::now();
         match self.window {
             Some((since, from)) => {
                 let seconds = now.duration_since(since).as_secs_f64();
-                if seconds >= 0.5 {
+                // A slow run (a PLC scan stepped at 10 instructions a second) completes no
+                // tick in half a second: the window stays open until one does (up to 5 s), so
+                // the rate reads 0.8 scans/s rather than 0.
+                if seconds >= 0.5 && (tick > from || seconds >= 5.0) {
                     self.rate = Some(tick.saturating_sub(from) as f64 / seconds);
                     self.window = Some((now, tick));
                 }
@@ -887,6 +898,24 @@ pub(crate) struct Back {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A run slower than a tick in half a second measures over the time a tick takes, not
+    /// "0 ticks/s".
+    #[test]
+    fn a_slow_run_reads_its_rate_not_zero() {
+        let start = Instant::now() - Duration::from_millis(800);
+        let mut meter = RateMeter::at(start, 10);
+        meter.note(10);
+        assert_eq!(meter.rate, None, "no tick yet: the window stays open");
+        let start = Instant::now() - Duration::from_millis(1250);
+        let mut meter = RateMeter::at(start, 10);
+        meter.note(11);
+        let rate = meter.rate.expect("measured");
+        assert!((0.7..0.85).contains(&rate), "{rate}");
+        let mut meter = RateMeter::at(Instant::now() - Duration::from_secs(6), 10);
+        meter.note(10);
+        assert_eq!(meter.rate, Some(0.0), "a stalled run reads 0 after 5 s");
+    }
 
     #[test]
     fn speeds_read_in_the_dialects_words() {
