@@ -350,6 +350,43 @@ fn dl_program() -> impl Strategy<Value = String> {
         .prop_map(|rungs| rungs.concat() + "END\n")
 }
 
+/// A program with every kind of program control around random rungs: a GOTO over a rung, a
+/// FOR loop, a master-line zone, a subroutine call and two stages.
+fn dl_flow_program() -> impl Strategy<Value = String> {
+    (
+        prop::collection::vec(dl_rung(), 1..3),
+        prop::collection::vec(dl_rung(), 6),
+        prop::collection::vec(any::<bool>(), 5),
+        1u32..4,
+    )
+        .prop_map(|(head, body, on, turns)| {
+            let mut text = head.concat();
+            if on[0] {
+                text += &format!("STR X0\nGOTO K1\n{}LBL K1\n", body[0]);
+            }
+            if on[1] {
+                text += &format!("STR X1\nFOR K{turns}\n{}NEXT\n", body[1]);
+            }
+            if on[2] {
+                text += &format!("STR X0\nMLS K1\n{}MLR K0\n", body[2]);
+            }
+            if on[3] {
+                text += "STR SP1\nGTS K1\n";
+            }
+            if on[4] {
+                text += &format!(
+                    "ISG S0\n{}STR X0\nJMP S1\nSG S1\n{}STR X1\nNJMP S0\n",
+                    body[3], body[4]
+                );
+            }
+            text += "END\n";
+            if on[3] {
+                text += &format!("SBR K1\n{}RT\n", body[5]);
+            }
+            text
+        })
+}
+
 fn dl205(src: &str) -> Option<servoscope::machine::dl205::Dl205> {
     servoscope::machine::dl205::dialect::machine(src).ok()
 }
@@ -369,6 +406,14 @@ proptest! {
     fn the_dl205_fast_loop_leaves_the_plc_as_the_executor(
         src in dl_program(),
         legs in prop::collection::vec((0u64..30, 0u32..12), 1..20),
+    ) {
+        with_program(&src, dl205, |start| fast_is_full(start, &legs))?;
+    }
+
+    #[test]
+    fn the_dl205_fast_loop_follows_jumps_loops_calls_and_stages(
+        src in dl_flow_program(),
+        legs in prop::collection::vec((0u64..30, 0u32..40), 1..20),
     ) {
         with_program(&src, dl205, |start| fast_is_full(start, &legs))?;
     }

@@ -16,6 +16,8 @@ pub const MNEMONICS: &[&str] = &[
     "DIVBS", "INCB", "DECB", "BIN", "BCD", "XOR", "ANDD", "ORD", "XORD", "ANDS", "ORS", "XORS",
     "SHFL", "SHFR", "ROTL", "ROTR", "NOT", "STRPD", "STRND", "ANDPD", "ANDND", "ORPD", "ORND",
     "PD", "OROUT", "INV", "CMP", "CMPD", "TMR", "TMRF", "TMRA", "TMRAF", "CNT", "SGCNT", "UDC",
+    "GOTO", "LBL", "FOR", "NEXT", "GTS", "SBR", "RT", "RTC", "MLS", "MLR", "SG", "ISG", "JMP",
+    "NJMP",
 ];
 
 pub const UNSUPPORTED: &[&str] = &[
@@ -24,8 +26,7 @@ pub const UNSUPPORTED: &[&str] = &[
     "CMPS", "CMPR", "CMPF", "ENCO", "DECO", "SUM", "LDX", "LDSX", "OUTX", "OUTL", "LDR",
     "ADDR", "SUBR", "MULR", "DIVR", "ADDF", "SUBF", "MULF", "DIVF", "ANDF", "ORF", "XORF", "SQRTR",
     "MOV", "MOVMC", "LDLBL", "BCDCPL", "BTOR", "RTOB", "ATH", "HTA", "SEG", "GRAY", "SFLDGT",
-    "SWAP", "TTD", "RTD", "SBR", "RT", "RTC", "GTS", "GOTO", "LBL", "FOR", "NEXT", "MLS", "MLR",
-    "ISG", "SG", "JMP", "NJMP", "CV", "CVJMP", "BCALL", "BEND", "BREAK", "INT", "IRT", "IRTC",
+    "SWAP", "TTD", "RTD", "CV", "CVJMP", "BCALL", "BEND", "BREAK", "INT", "IRT", "IRTC",
     "ENI", "DISI", "STOP", "PAUSE", "RD", "WT", "RX", "WX", "PRINT", "DLBL", "NCON", "ACON",
     "FAULT",
 ];
@@ -201,6 +202,14 @@ fn count(t: &Tok) -> Result<u8, Error> {
     match digits.parse::<u8>() {
         Ok(n) if (1..=32).contains(&n) => Ok(n),
         _ => err(t.col, format!("{} is out of range (K1–K32)", t.text)),
+    }
+}
+
+/// A label or subroutine number: K0–KFFFF (hex digits, as DirectSOFT writes them).
+fn label(t: &Tok) -> Result<u16, Error> {
+    match k_hex(t) {
+        Some(k) if k <= 0xFFFF => Ok(k as u16),
+        _ => err(t.col, format!("'{}' is not a label number K0–KFFFF", t.text)),
     }
 }
 
@@ -408,6 +417,51 @@ fn instruction(ts: &[Tok], program: &mut Program, suggester: &Suggester) -> Resu
             program.boxes.push(BoxDecl { status, words, preset, instr: program.instrs.len() });
             op
         }
+        "GOTO" | "GTS" | "LBL" | "SBR" => {
+            want(1)?;
+            let k = label(&args[0])?;
+            match m.as_str() {
+                // Targets hold the label until `control` resolves them.
+                "GOTO" => Op::Goto(u32::from(k)),
+                "GTS" => Op::Gts(u32::from(k)),
+                "LBL" => Op::Lbl(k),
+                _ => Op::Sbr(k),
+            }
+        }
+        "FOR" => {
+            want(1)?;
+            Op::For(word(&args[0], true, true, 1, 0x9999, program)?, 0)
+        }
+        "NEXT" | "RT" | "RTC" => {
+            want(0)?;
+            match m.as_str() {
+                "NEXT" => Op::Next(0),
+                "RT" => Op::Rt,
+                _ => Op::Rtc,
+            }
+        }
+        "MLS" | "MLR" => {
+            want(1)?;
+            let (lo, hi) = if m == "MLS" { (1, 7) } else { (0, 6) };
+            let n = match k_hex(&args[0]) {
+                Some(n) if (lo..=hi).contains(&n) => n as u8,
+                _ => return err(args[0].col, format!("'{}': {m} takes a level K{lo}–K{hi}", args[0].text)),
+            };
+            if m == "MLS" { Op::Mls(n) } else { Op::Mlr(n) }
+        }
+        "SG" | "ISG" | "JMP" | "NJMP" => {
+            want(1)?;
+            let b = bit(&args[0], program)?;
+            if b.kind != Kind::S {
+                return err(args[0].col, format!("{m} takes a stage S0–S1777, found '{}'", args[0].text));
+            }
+            match m.as_str() {
+                "SG" | "ISG" => Op::Sg { stage: b.n, initial: m == "ISG", next: 0 },
+                // The enclosing stage is found by `control`.
+                "JMP" => Op::Jmp { to: b.n, own: 0 },
+                _ => Op::Njmp { to: b.n, own: 0 },
+            }
+        }
         "END" => {
             want(0)?;
             Op::End
@@ -510,6 +564,215 @@ fn instruction(ts: &[Tok], program: &mut Program, suggester: &Suggester) -> Resu
     })
 }
 
+/// The blocks of spec §2 (main part, stages, subroutines after END) and the program-control
+/// instructions checked against them; on success their targets are resolved to instruction
+/// indices: GOTO → its LBL, GTS → its SBR, FOR ↔ NEXT, SG → the next SG/ISG/END, JMP → the
+/// enclosing stage.
+fn control(instrs: &mut [Instr]) -> Vec<(usize, String)> {
+    use std::collections::HashMap;
+    let mut errors = Vec::new();
+    let n = instrs.len();
+    let Some(end) = instrs.iter().position(|i| i.op == Op::End) else {
+        return errors;
+    };
+    // Which block each instruction is in: 0 the main part, 1 + i the stage whose SG/ISG is at
+    // i, n + 1 + i the subroutine whose SBR is at i; None: outside any (after END).
+    let mut block: Vec<Option<usize>> = vec![None; n];
+    let mut labels: HashMap<u16, usize> = HashMap::new();
+    let mut subroutines: HashMap<u16, usize> = HashMap::new();
+    let mut stages: HashMap<u32, usize> = HashMap::new();
+    let mut stage = None;
+    let mut sub: Option<usize> = None;
+    for i in 0..n {
+        let ins = &instrs[i];
+        if i <= end {
+            match ins.op {
+                Op::Sg { stage: s, .. } => {
+                    if let Some(&first) = stages.get(&s) {
+                        errors.push((ins.line, format!("stage S{s:o} already has its SG/ISG on line {}", instrs[first].line)));
+                    }
+                    stages.insert(s, i);
+                    stage = Some(i);
+                }
+                Op::Rt | Op::Rtc => errors.push((ins.line, format!("{} outside a subroutine: subroutines come after END, SBR … RT", ins.mnemonic))),
+                Op::Sbr(_) => errors.push((ins.line, "SBR before END: subroutines come after the main program's END".into())),
+                _ => {}
+            }
+            block[i] = Some(stage.map_or(0, |s| 1 + s));
+            continue;
+        }
+        match ins.op {
+            Op::Sbr(k) => {
+                if sub.is_some() {
+                    errors.push((ins.line, "SBR inside a subroutine: end the one before with RT".into()));
+                }
+                if let Some(&first) = subroutines.get(&k) {
+                    errors.push((ins.line, format!("SBR K{k:X} is already defined on line {}", instrs[first].line)));
+                }
+                subroutines.insert(k, i);
+                sub = Some(i);
+            }
+            Op::End => errors.push((ins.line, "END in a subroutine: a subroutine ends with RT".into())),
+            Op::Sg { .. } => errors.push((ins.line, format!("{} in a subroutine: stages belong to the main program", ins.mnemonic))),
+            _ if sub.is_none() => {
+                errors.push((ins.line, format!("{} after END: only subroutines (SBR … RT) may follow END", ins.mnemonic)));
+            }
+            _ => {}
+        }
+        block[i] = sub.map(|s| n + 1 + s);
+        if ins.op == Op::Rt {
+            sub = None;
+        }
+    }
+    if let Some(open) = sub {
+        errors.push((instrs[open].line, "SBR without RT".into()));
+    }
+
+    // Labels, FOR … NEXT and master-line levels, block by block in program order.
+    let mut open_for: Option<usize> = None;
+    let mut in_loop: Vec<Option<usize>> = vec![None; n];
+    let mut level = 0u8;
+    for i in 0..n {
+        let starts_block = i == 0 || block[i] != block[i - 1];
+        if starts_block {
+            if let Some(f) = open_for.take() {
+                errors.push((instrs[f].line, "FOR without NEXT in its block".into()));
+            }
+            level = 0;
+        }
+        let ins = &instrs[i];
+        match ins.op {
+            Op::Lbl(k) => {
+                if let Some(&first) = labels.get(&k) {
+                    errors.push((ins.line, format!("LBL K{k:X} is already defined on line {}", instrs[first].line)));
+                }
+                labels.insert(k, i);
+            }
+            Op::For(..) => {
+                if open_for.is_some() {
+                    errors.push((ins.line, "FOR inside a FOR loop: loops do not nest".into()));
+                } else {
+                    open_for = Some(i);
+                }
+            }
+            Op::Next(_) => match open_for.take() {
+                Some(f) => {
+                    in_loop[f] = Some(f);
+                    in_loop[i] = Some(f);
+                    if let Op::For(c, _) = instrs[f].op {
+                        instrs[f].op = Op::For(c, i as u32);
+                    }
+                    instrs[i].op = Op::Next(f as u32);
+                    continue;
+                }
+                None => errors.push((ins.line, "NEXT without FOR".into())),
+            },
+            Op::Sbr(_) | Op::Sg { .. } => level = 0,
+            Op::Mls(k) => {
+                if k != level + 1 {
+                    errors.push((ins.line, format!("MLS K{k} must follow level {}: the current level is {level}", k - 1)));
+                }
+                level = k;
+            }
+            Op::Mlr(k) => {
+                if k >= level {
+                    errors.push((ins.line, format!("MLR K{k} must be below the current level {level}")));
+                }
+                level = k.min(level);
+            }
+            _ => {}
+        }
+        in_loop[i] = open_for;
+    }
+    if let Some(f) = open_for {
+        errors.push((instrs[f].line, "FOR without NEXT in its block".into()));
+    }
+
+    // Jumps, calls and stage jumps.
+    let mut calls: HashMap<usize, Vec<(usize, usize)>> = HashMap::new();
+    for i in 0..n {
+        let ins = &instrs[i];
+        match ins.op {
+            Op::Goto(k) => match labels.get(&(k as u16)) {
+                None => errors.push((ins.line, format!("GOTO K{k:X}: no LBL K{k:X}"))),
+                Some(&to) if to <= i => errors.push((ins.line, format!("GOTO K{k:X} jumps backwards (to line {}): GOTO only jumps forward", instrs[to].line))),
+                Some(&to) if block[to] != block[i] || in_loop[to] != in_loop[i] => {
+                    errors.push((ins.line, format!("GOTO K{k:X} leaves its block (stage, subroutine or FOR loop): LBL K{k:X} is on line {}", instrs[to].line)));
+                }
+                Some(&to) => instrs[i].op = Op::Goto(to as u32),
+            },
+            Op::Gts(k) => match subroutines.get(&(k as u16)) {
+                None => errors.push((ins.line, format!("GTS K{k:X}: no SBR K{k:X}"))),
+                Some(&to) => {
+                    let caller = block[i].filter(|&b| b > n).map_or(usize::MAX, |b| b - n - 1);
+                    calls.entry(caller).or_default().push((to, i));
+                    instrs[i].op = Op::Gts(to as u32);
+                }
+            },
+            Op::Jmp { to, .. } | Op::Njmp { to, .. } => {
+                let own = match block[i] {
+                    Some(b) if b >= 1 && b <= n => match instrs[b - 1].op {
+                        Op::Sg { stage, .. } => Some(stage),
+                        _ => None,
+                    },
+                    _ => None,
+                };
+                match own {
+                    None => errors.push((ins.line, format!("{} outside a stage: it belongs after an SG or ISG", ins.mnemonic))),
+                    Some(_) if !stages.contains_key(&to) => errors.push((ins.line, format!("{} S{to:o}: no SG or ISG S{to:o}", ins.mnemonic))),
+                    Some(own) => {
+                        instrs[i].op = if matches!(ins.op, Op::Jmp { .. }) {
+                            Op::Jmp { to, own }
+                        } else {
+                            Op::Njmp { to, own }
+                        };
+                    }
+                }
+            }
+            Op::Sg { stage, initial, .. } => {
+                let next = (i + 1..n)
+                    .find(|&j| matches!(instrs[j].op, Op::Sg { .. } | Op::End))
+                    .unwrap_or(end);
+                instrs[i].op = Op::Sg { stage, initial, next: next as u32 };
+            }
+            _ => {}
+        }
+    }
+    // Calls: no recursion, at most 8 deep (so a run never faults).
+    fn depth(
+        sub: usize,
+        calls: &std::collections::HashMap<usize, Vec<(usize, usize)>>,
+        path: &mut Vec<usize>,
+    ) -> Result<usize, usize> {
+        if path.contains(&sub) {
+            return Err(sub);
+        }
+        path.push(sub);
+        let mut deepest = 0;
+        for &(callee, _) in calls.get(&sub).map_or(&[][..], |v| v.as_slice()) {
+            deepest = deepest.max(depth(callee, calls, path)? + 1);
+        }
+        path.pop();
+        Ok(deepest)
+    }
+    for (&caller, list) in &calls {
+        for &(callee, at) in list {
+            let line = instrs[at].line;
+            let mut path = if caller == usize::MAX { Vec::new() } else { vec![caller] };
+            match depth(callee, &calls, &mut path) {
+                Err(_) => errors.push((line, format!("{}: recursion: a subroutine may not call itself, directly or not", instrs[at].text))),
+                Ok(d) if caller == usize::MAX && d + 1 > super::CALL_DEPTH => {
+                    errors.push((line, format!("{}: calls nested {} deep (at most {})", instrs[at].text, d + 1, super::CALL_DEPTH)));
+                }
+                Ok(_) => {}
+            }
+        }
+    }
+    errors.sort();
+    errors.dedup();
+    errors
+}
+
 /// One box per timer or counter number; a two-word box takes n and n + 1 (spec §2).
 fn boxes_once(instrs: &[Instr], errors: &mut Vec<(usize, String)>) {
     let mut owner: std::collections::HashMap<Bit, usize> = std::collections::HashMap::new();
@@ -542,18 +805,17 @@ fn rungs(instrs: &[Instr]) -> Vec<(usize, String)> {
     // The multi-input box that ended the rung: only a new rung, NOP or END may follow.
     let mut after_box: Option<String> = None;
     for ins in instrs {
-        if end_line.is_some() {
-            errors.push((ins.line, format!("{} after END: END must be the last instruction", ins.mnemonic)));
-            continue;
-        }
         match ins.op {
-            Op::End => {
-                if in_rung && !has_output {
-                    errors.push((ins.line, "a rung with no output before END".into()));
-                }
-                end_line = Some(ins.line);
-            }
             Op::Nop => continue,
+            op if op.is_standalone() => {
+                if in_rung && !has_output {
+                    errors.push((ins.line, format!("a rung with no output before {}", ins.mnemonic)));
+                }
+                in_rung = false;
+                if op == Op::End && end_line.is_none() {
+                    end_line = Some(ins.line);
+                }
+            }
             Op::Str(_) => {
                 // A new rung when there is none or this one has its output; a branch otherwise.
                 if !in_rung || has_output {
@@ -568,7 +830,7 @@ fn rungs(instrs: &[Instr]) -> Vec<(usize, String)> {
             }
             Op::And(_) | Op::Or(_) | Op::Not => {
                 if after_box.is_some() {
-                    errors.push((ins.line, format!("{} after {}: a multi-input box ends its rung; start a new rung with STR", ins.mnemonic, after_box.unwrap_or_default())));
+                    errors.push((ins.line, format!("{} after {}: it ends its rung; start a new rung with STR", ins.mnemonic, after_box.unwrap_or_default())));
                 } else if !in_rung {
                     errors.push((ins.line, format!("{} needs a rung: start it with STR", ins.mnemonic)));
                 }
@@ -587,7 +849,7 @@ fn rungs(instrs: &[Instr]) -> Vec<(usize, String)> {
                 if !in_rung {
                     errors.push((ins.line, "needs a rung condition: start the rung with a contact, e.g. STR SP1".into()));
                 } else if let Some(boxed) = &after_box {
-                    errors.push((ins.line, format!("{} after {boxed}: a multi-input box ends its rung; start a new rung with STR", ins.mnemonic)));
+                    errors.push((ins.line, format!("{} after {boxed}: it ends its rung; start a new rung with STR", ins.mnemonic)));
                 } else if legs > 1 {
                     // Each leg is its own STR, first leg first, and the box is the rung's
                     // first output (spec §2).
@@ -608,7 +870,8 @@ fn rungs(instrs: &[Instr]) -> Vec<(usize, String)> {
                     }
                     has_output = true;
                 }
-                if legs > 1 {
+                // A multi-input box, like FOR (whose body starts with a rung), ends its rung.
+                if legs > 1 || matches!(op, Op::For(..)) {
                     after_box = Some(ins.mnemonic.clone());
                 }
                 continue;
@@ -672,7 +935,7 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
         errors.push(Diagnostic::error(l, 1, 6, "#BEGIN without #END"));
     }
     if errors.is_empty() {
-        for (line, message) in rungs(&program.instrs) {
+        for (line, message) in rungs(&program.instrs).into_iter().chain(control(&mut program.instrs)) {
             errors.push(Diagnostic::error(line, 1, 1, message));
         }
     }

@@ -38,6 +38,10 @@ pub static DIALECT: Dialect = Dialect {
             "parts_counter.dl205",
             include_str!("../../../assets/examples/parts_counter.dl205"),
         ),
+        (
+            "push_on_off.dl205",
+            include_str!("../../../assets/examples/push_on_off.dl205"),
+        ),
     ],
     lessons: &[(
         "dl205_subs_lesson.ron",

@@ -78,6 +78,34 @@ pub fn explain(m: &Dl205) -> Option<String> {
         Op::Counter(kind, n, preset) => counter_text(m, text, kind, n, preset),
         Op::Coil(b) => format!("{text}: {} = {}", bit_name(b), u8::from(m.bit(b))),
         Op::End => format!("END: scan {} done", m.tick.saturating_sub(1)),
+        Op::Lbl(_) => format!("{text}: a jump target"),
+        Op::Next(for_at) => match m.loop_state {
+            Some(l) => format!("{text}: back to the top of the loop ({} turn(s) left)", l.left),
+            None => format!("{text}: loop done (FOR on line {})", line_of(m, for_at)),
+        },
+        Op::Sbr(_) => format!("{text}: subroutine starts (call depth {})", m.calls.len()),
+        Op::Rt => format!("{text}: return to line {}", m.pc_line_now()),
+        Op::Mlr(n) => format!("{text}: master-line level {n}"),
+        Op::Mls(n) => format!(
+            "{text}: zone {n} {} (level {n})",
+            if m.zones[usize::from(n.min(7))] { "powered" } else { "not powered: its outputs see no power" }
+        ),
+        Op::Sg { stage, next, .. } => {
+            if m.pc == next && !m.s[stage as usize] {
+                format!("{text}: S{stage:o} is off: skipped to line {}", line_of(m, next))
+            } else if m.stage_power {
+                format!("{text}: S{stage:o} is on: the stage runs")
+            } else {
+                format!("{text}: S{stage:o} turned off: one clean-up pass (outputs off, timers reset)")
+            }
+        }
+        Op::Njmp { to, own } => {
+            if m.s[to as usize] && !m.s[own as usize] && !power {
+                format!("{text}: rung off: stage S{own:o} → S{to:o}")
+            } else {
+                format!("{text}: rung on: stays in S{own:o}")
+            }
+        }
         Op::Nop => "NOP".into(),
         _ if !m.last_ran => format!("{text}: rung not powered, skipped"),
         Op::Ld(_) | Op::Ldd(_) | Op::Lda(_) | Op::Ldf(..) => match m.moved {
@@ -132,6 +160,14 @@ pub fn explain(m: &Dl205) -> Option<String> {
             };
             format!("{text}: {range} = {}", u8::from(on))
         }
+        Op::Goto(to) => format!("{text}: jump to line {}", line_of(m, to)),
+        Op::For(_, next) => match m.loop_state {
+            Some(l) if m.pc != next + 1 => format!("{text}: loop of {} turn(s)", l.left),
+            _ => format!("{text}: no turns: continue after NEXT (line {})", line_of(m, next)),
+        },
+        Op::Gts(to) => format!("{text}: call the subroutine on line {} (depth {})", line_of(m, to), m.calls.len()),
+        Op::Rtc => format!("{text}: return to line {}", m.pc_line_now()),
+        Op::Jmp { to, own } => format!("{text}: stage S{own:o} → S{to:o}"),
         Op::Cmp(_) | Op::CmpD(_) => {
             let which = if m.sp[sp::SP60] {
                 "less than: SP60 = 1"
@@ -224,4 +260,8 @@ fn counter_text(m: &Dl205, text: &str, kind: CounterKind, n: u32, preset: Preset
         return format!("{text}: no count (no off→on change of an input): CTA{n:o} stays {is}; {status}");
     }
     format!("{text}: CT{n:o} counted {was} → {is}; {status}")
+}
+
+fn line_of(m: &Dl205, index: u32) -> usize {
+    m.program.instrs.get(index as usize).map_or(0, |i| i.line)
 }

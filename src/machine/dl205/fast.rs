@@ -36,7 +36,8 @@ pub enum Flat {
     /// An output that runs on an unpowered rung too (PD, OROUT, the boxes).
     Always(Op),
     Output(Op),
-    /// END: the executor ends the scan.
+    /// END and program control (jumps, loops, calls, stages, master lines): the executor
+    /// runs it and says where to go on.
     Full,
 }
 
@@ -60,8 +61,8 @@ pub fn flatten(instrs: &[Instr]) -> Vec<Flat> {
             Op::OutD(a) => Flat::OutPair(a),
             Op::Pop => Flat::Pop,
             Op::Not => Flat::Not,
+            op if op.is_control() => Flat::Full,
             op if op.always_runs() => Flat::Always(op),
-            Op::End => Flat::Full,
             op => Flat::Output(op),
         })
         .collect()
@@ -94,6 +95,11 @@ pub fn scan_writes(instrs: &[Instr]) -> WriteSet {
                     set.insert(loc);
                 }
             }
+            Op::Jmp { to, own } | Op::Njmp { to, own } => {
+                set.insert(Loc::new(super::view::S, own));
+                set.insert(Loc::new(super::view::S, to));
+            }
+            Op::For(..) => set.insert(Loc::new(SP, super::program::sp::SP75 as u32)),
             Op::Rst(a, b) if matches!(a.kind, Kind::T | Kind::Ct) => {
                 for n in a.n..=b.n {
                     let status = Bit { kind: a.kind, n };
@@ -127,7 +133,7 @@ impl Dl205 {
     /// One instruction of the fast loop at `index`.
     #[inline(always)]
     fn run_flat(&mut self, index: usize, op: Flat) {
-        let power = self.bstack.last().copied().unwrap_or(false);
+        let power = self.bstack.last().copied().unwrap_or(false) && self.block_power;
         match op {
             Flat::Str(t) => self.contact_str(t),
             Flat::And(t) => self.contact_and(t),
@@ -146,12 +152,8 @@ impl Dl205 {
                 self.rung_has_output = true;
                 self.set_bit(b, power);
             }
-            Flat::Full => {
-                self.pc = index as u32;
-                self.step = index as u32;
-                self.execute();
-                return;
-            }
+            // Handled by the scan loop.
+            Flat::Full => return,
             _ if !power => self.rung_has_output = true,
             Flat::LoadConst(k) => {
                 self.rung_has_output = true;
@@ -202,17 +204,34 @@ impl Dl205 {
         if self.step != 0 || len == 0 || flat.len() != len {
             return false;
         }
-        let last = len - 1;
         let start = self.steps;
+        let tick = self.tick;
         self.scan_start();
-        for (i, &op) in flat[..last].iter().enumerate() {
-            self.run_flat(i, op);
+        let mut index = 0usize;
+        let mut executed = 0u64;
+        while let Some(&op) = flat.get(index) {
+            if op == Flat::Full {
+                // Program control and END in the executor, with the counters it keeps.
+                self.pc = index as u32;
+                self.step = executed as u32;
+                self.steps = start + executed;
+                self.execute();
+                executed += 1;
+                if self.tick != tick {
+                    return true;
+                }
+                index = self.pc as usize;
+            } else {
+                self.run_flat(index, op);
+                executed += 1;
+                index += 1;
+            }
         }
-        // The last instruction in the executor: it ends the scan with the full record.
-        self.pc = last as u32;
-        self.step = last as u32;
-        self.steps = start + last as u64;
-        self.execute();
+        // The last instruction is END (checked at assembly); past it the executor's rule.
+        self.pc = 0;
+        self.step = 0;
+        self.steps = start + executed;
+        self.tick += 1;
         true
     }
 }

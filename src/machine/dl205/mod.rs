@@ -28,7 +28,16 @@ use program::{
 
 
 pub const V_WORDS: usize = 0o40000;
+/// Z0 = 1, Z1…Z7 = 0: the master-line zones at each scan, SG, ISG and SBR.
+const ZONES_AT_START: [bool; 8] = [true, false, false, false, false, false, false, false];
 pub const LEVELS: usize = 8;
+
+/// Where execution goes after an instruction.
+enum Flow {
+    Next,
+    To(u32),
+    EndScan,
+}
 
 /// What the last instruction did to the accumulator stack, for the panel and explanations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -43,6 +52,28 @@ pub enum StackMove {
     /// L1 was overwritten (DIVS, DIVBS).
     Overwrite { value: u32 },
 }
+
+/// A FOR loop in progress: where its FOR is and the turns left, this one included.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Loop {
+    pub for_at: u32,
+    pub left: u32,
+}
+
+/// A subroutine call in progress: where to return and the caller's rung and block state.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Frame {
+    pub ret: u32,
+    pub bstack: Vec<bool>,
+    pub rung_has_output: bool,
+    pub level: u8,
+    pub zones: [bool; 8],
+    pub stage_power: bool,
+    pub loop_state: Option<Loop>,
+}
+
+/// Calls may nest 8 deep (checked at assembly: spec §2).
+pub const CALL_DEPTH: usize = 8;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Dl205 {
@@ -72,6 +103,17 @@ pub struct Dl205 {
     /// OROUT targets already written in this scan.
     pub orout_marks: Vec<bool>,
     pub time: TimeBase,
+    /// Master-line level ℓ and zone powers Z0…Z7 (spec §6.8).
+    pub level: u8,
+    pub zones: [bool; 8],
+    /// Stage power G, fixed at each SG/ISG.
+    pub stage_power: bool,
+    /// G ∧ Z_ℓ: what every output's rung power is ANDed with.
+    pub block_power: bool,
+    pub loop_state: Option<Loop>,
+    pub calls: Vec<Frame>,
+    /// Each stage's clean-up mark: it ran since it last turned off (spec §6.10).
+    pub stage_marks: Vec<bool>,
     pub acc: u32,
     pub stack: [u32; LEVELS],
     pub depth: u8,
@@ -148,6 +190,13 @@ impl Dl205 {
             box_before: 0,
             orout_marks,
             time,
+            level: 0,
+            zones: ZONES_AT_START,
+            stage_power: true,
+            block_power: true,
+            loop_state: None,
+            calls: Vec::new(),
+            stage_marks: vec![false; Kind::S.count() as usize],
             acc: 0,
             stack: [0; LEVELS],
             depth: 0,
@@ -167,6 +216,23 @@ impl Dl205 {
             power: vec![None; n],
         };
         m.sp[sp::SP1] = true;
+        // ISG stages are on before scan 0.
+        let initial: Vec<u32> = m
+            .program
+            .instrs
+            .iter()
+            .filter_map(|i| match i.op {
+                Op::Sg {
+                    stage,
+                    initial: true,
+                    ..
+                } => Some(stage),
+                _ => None,
+            })
+            .collect();
+        for stage in initial {
+            m.s[stage as usize] = true;
+        }
         m
     }
 
@@ -459,23 +525,103 @@ impl Dl205 {
         self.before = (self.acc, self.stack[0]);
         self.moved = StackMove::None;
         self.raised_error = false;
-        let power = self.bstack.last().copied().unwrap_or(false);
+        let rung = self.bstack.last().copied().unwrap_or(false);
+        // Effective power: the rung's, inside a powered stage and master-line zone.
+        let power = rung && self.block_power;
         self.last_ran = true;
+        let mut next = self.pc + 1;
+        let mut end_scan = false;
         match op {
             Op::Str(t) => self.contact_str(t),
             Op::And(t) => self.contact_and(t),
             Op::Or(t) => self.contact_or(t),
             Op::AndStr => self.join_top(true),
             Op::OrStr => self.join_top(false),
-            Op::End | Op::Nop => {}
             Op::Not => self.invert_top(),
+            Op::End => end_scan = true,
+            Op::Nop => {}
+            op if op.is_standalone() => {
+                // A standalone instruction ends the rung: the next STR starts one.
+                self.rung_has_output = true;
+                match self.standalone(op) {
+                    Flow::Next => {}
+                    Flow::To(i) => next = i,
+                    Flow::EndScan => end_scan = true,
+                }
+            }
+            Op::Mls(n) => {
+                self.rung_has_output = true;
+                let n = usize::from(n.min(7));
+                self.zones[n] = n > 0 && self.zones[n - 1] && rung;
+                self.level = n as u8;
+                self.update_block_power();
+            }
+            Op::Njmp { to, own } => {
+                self.rung_has_output = true;
+                if self.block_power && !rung {
+                    self.jump_stage(own, to);
+                }
+            }
             op if op.always_runs() => {
                 self.rung_has_output = true;
                 self.always(op, power);
             }
+            // An unpowered FOR continues after its NEXT.
+            Op::For(_, next_at) if !power => {
+                self.rung_has_output = true;
+                self.last_ran = false;
+                next = next_at + 1;
+            }
             _ if !power => {
                 self.rung_has_output = true;
                 self.last_ran = false;
+            }
+            Op::Goto(to) => {
+                self.rung_has_output = true;
+                next = to;
+            }
+            Op::For(count, next_at) => {
+                self.rung_has_output = true;
+                let turns = match count {
+                    W::K(k) => bcd_value(u32::from(k), 4),
+                    W::V(a) => bcd_value(u32::from(self.v[a as usize]), 4),
+                };
+                let turns = turns.unwrap_or_else(|| {
+                    self.non_bcd();
+                    0
+                });
+                if turns == 0 {
+                    next = next_at + 1;
+                } else {
+                    self.loop_state = Some(Loop {
+                        for_at: self.pc,
+                        left: turns as u32,
+                    });
+                }
+            }
+            Op::Gts(to) => {
+                self.rung_has_output = true;
+                self.calls.push(Frame {
+                    ret: self.pc + 1,
+                    bstack: std::mem::take(&mut self.bstack),
+                    rung_has_output: true,
+                    level: self.level,
+                    zones: self.zones,
+                    stage_power: self.stage_power,
+                    loop_state: self.loop_state.take(),
+                });
+                next = to;
+            }
+            Op::Rtc => {
+                self.rung_has_output = true;
+                match self.return_from_call() {
+                    Some(ret) => next = ret,
+                    None => end_scan = true,
+                }
+            }
+            Op::Jmp { to, own } => {
+                self.rung_has_output = true;
+                self.jump_stage(own, to);
             }
             _ => {
                 self.rung_has_output = true;
@@ -486,12 +632,99 @@ impl Dl205 {
         self.last = Some(index as u32);
         self.steps += 1;
         self.step += 1;
-        self.pc += 1;
-        if op == Op::End || self.pc as usize >= self.program.instrs.len() {
+        self.pc = next;
+        if end_scan || self.pc as usize >= self.program.instrs.len() {
             self.pc = 0;
             self.step = 0;
             self.tick += 1;
         }
+    }
+
+    /// A standalone instruction (spec §6.8, §6.10): where execution goes next.
+    fn standalone(&mut self, op: Op) -> Flow {
+        match op {
+            Op::Next(for_at) => match self.loop_state {
+                Some(Loop { left, .. }) if left > 1 => {
+                    self.loop_state = Some(Loop {
+                        for_at,
+                        left: left - 1,
+                    });
+                    Flow::To(for_at + 1)
+                }
+                _ => {
+                    self.loop_state = None;
+                    Flow::Next
+                }
+            },
+            Op::Sbr(_) => {
+                self.bstack.clear();
+                self.level = 0;
+                self.zones = ZONES_AT_START;
+                self.stage_power = true;
+                self.loop_state = None;
+                self.update_block_power();
+                Flow::Next
+            }
+            Op::Rt => match self.return_from_call() {
+                Some(ret) => Flow::To(ret),
+                // Only a call reaches a subroutine (checked at assembly): end the scan.
+                None => Flow::EndScan,
+            },
+            Op::Mlr(n) => {
+                self.level = n.min(7);
+                self.update_block_power();
+                Flow::Next
+            }
+            Op::Sg { stage, next, .. } => {
+                self.level = 0;
+                self.zones = ZONES_AT_START;
+                let i = stage as usize;
+                let on = self.s.get(i).copied().unwrap_or(false);
+                let marked = self.stage_marks.get(i).copied().unwrap_or(false);
+                let flow = if on {
+                    self.stage_power = true;
+                    self.stage_marks[i] = true;
+                    Flow::Next
+                } else if marked {
+                    // One clean-up pass: outputs see no power, timers reset.
+                    self.stage_power = false;
+                    self.stage_marks[i] = false;
+                    Flow::Next
+                } else {
+                    Flow::To(next)
+                };
+                self.update_block_power();
+                flow
+            }
+            _ => Flow::Next,
+        }
+    }
+
+    /// RT/RTC: the caller's state back; where to continue (None: no call in progress).
+    fn return_from_call(&mut self) -> Option<u32> {
+        let frame = self.calls.pop()?;
+        self.bstack = frame.bstack;
+        self.rung_has_output = frame.rung_has_output;
+        self.level = frame.level;
+        self.zones = frame.zones;
+        self.stage_power = frame.stage_power;
+        self.loop_state = frame.loop_state;
+        self.update_block_power();
+        Some(frame.ret)
+    }
+
+    /// JMP: the enclosing stage off, the target on.
+    fn jump_stage(&mut self, own: u32, to: u32) {
+        if let Some(s) = self.s.get_mut(own as usize) {
+            *s = false;
+        }
+        if let Some(s) = self.s.get_mut(to as usize) {
+            *s = true;
+        }
+    }
+
+    fn update_block_power(&mut self) {
+        self.block_power = self.stage_power && self.zones[usize::from(self.level.min(7))];
     }
 
     /// NOT: the top of the boolean stack inverted.
@@ -538,9 +771,10 @@ impl Dl205 {
         }
     }
 
-    /// Leg `i` of a multi-input box: the rung's i-th level, first STR first.
+    /// Leg `i` of a multi-input box: the rung's i-th level, first STR first, inside the
+    /// block's power.
     fn leg(&self, i: usize) -> bool {
-        self.bstack.get(i).copied().unwrap_or(false)
+        self.block_power && self.bstack.get(i).copied().unwrap_or(false)
     }
 
     /// A box's current value: one word, or a pair (low word first).
@@ -767,6 +1001,11 @@ impl Dl205 {
         }
     }
 
+    /// The line of the instruction about to run (0 past the end).
+    pub fn pc_line_now(&self) -> usize {
+        self.program.instrs.get(self.pc as usize).map_or(0, |i| i.line)
+    }
+
     /// Every timer and counter box for the Timers & counters panel, in program order.
     pub fn boxes(&self) -> Vec<crate::machine::plc::BoxRow> {
         self.program
@@ -822,6 +1061,12 @@ impl Dl205 {
         }
         self.sp[sp::SP7] = t % 2 == 1;
         self.orout_marks.iter_mut().for_each(|m| *m = false);
+        self.level = 0;
+        self.zones = ZONES_AT_START;
+        self.stage_power = true;
+        self.block_power = true;
+        self.loop_state = None;
+        self.calls.clear();
         self.acc = 0;
         self.stack = [0; LEVELS];
         self.depth = 0;

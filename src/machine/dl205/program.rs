@@ -265,6 +265,28 @@ pub enum Op {
     CmpD(D),
     Timer(TimerKind, u32, Preset),
     Counter(CounterKind, u32, Preset),
+    // Program control (spec §6.8, §6.10). Targets are instruction indices, resolved by the
+    // assembler once every label, subroutine and stage is known.
+    /// Continue at the LBL with this index.
+    Goto(u32),
+    Lbl(u16),
+    /// The loop count and the index of the loop's NEXT.
+    For(W, u32),
+    /// The index of the loop's FOR.
+    Next(u32),
+    /// Call the SBR at this index.
+    Gts(u32),
+    Sbr(u16),
+    Rt,
+    Rtc,
+    Mls(u8),
+    Mlr(u8),
+    /// A stage: its number, whether it is an ISG, and the index of the next SG, ISG or END
+    /// (where an inactive stage skips to).
+    Sg { stage: u32, initial: bool, next: u32 },
+    /// Turn the enclosing stage `own` off and stage `to` on.
+    Jmp { to: u32, own: u32 },
+    Njmp { to: u32, own: u32 },
 }
 
 impl Op {
@@ -279,11 +301,52 @@ impl Op {
     pub fn always_runs(&self) -> bool {
         matches!(
             self,
-            Op::Coil(_) | Op::Pd(..) | Op::OrOut(..) | Op::Timer(..) | Op::Counter(..)
+            Op::Coil(_)
+                | Op::Pd(..)
+                | Op::OrOut(..)
+                | Op::Timer(..)
+                | Op::Counter(..)
+                | Op::Mls(_)
+                | Op::Njmp { .. }
+        )
+    }
+    /// Instructions that change where execution goes, or the block's power: the fast loop
+    /// hands them to the executor.
+    pub fn is_control(&self) -> bool {
+        matches!(
+            self,
+            Op::End
+                | Op::Goto(_)
+                | Op::Lbl(_)
+                | Op::For(..)
+                | Op::Next(_)
+                | Op::Gts(_)
+                | Op::Sbr(_)
+                | Op::Rt
+                | Op::Rtc
+                | Op::Mls(_)
+                | Op::Mlr(_)
+                | Op::Sg { .. }
+                | Op::Jmp { .. }
+                | Op::Njmp { .. }
+        )
+    }
+    /// Instructions that take no rung condition and end the current rung (spec §2).
+    pub fn is_standalone(&self) -> bool {
+        matches!(
+            self,
+            Op::End
+                | Op::Nop
+                | Op::Lbl(_)
+                | Op::Next(_)
+                | Op::Sbr(_)
+                | Op::Rt
+                | Op::Sg { .. }
+                | Op::Mlr(_)
         )
     }
     pub fn is_output(&self) -> bool {
-        !self.is_contact() && !matches!(self, Op::End | Op::Nop)
+        !self.is_contact() && !self.is_standalone()
     }
 }
 

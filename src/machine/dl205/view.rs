@@ -173,6 +173,18 @@ impl Dl205 {
             Op::Set(a, b) | Op::Rst(a, b) if self.last_ran => {
                 (a.n..=b.n).for_each(|n| f(Loc::new(kind_space(a.kind), n)));
             }
+            Op::Jmp { to, own } if self.last_ran => {
+                f(Loc::new(S, own));
+                f(Loc::new(S, to));
+            }
+            Op::Njmp { to, own } if self.s.get(to as usize) == Some(&true) => {
+                let rung = self.power.get(self.last.unwrap_or(0) as usize).copied().flatten();
+                if rung == Some(false) && self.block_power {
+                    f(Loc::new(S, own));
+                    f(Loc::new(S, to));
+                }
+            }
+            Op::For(..) if self.raised_error => f(Loc::new(SP, super::program::sp::SP75 as u32)),
             Op::OutF(e, n) if self.last_ran => {
                 (e.n..e.n + u32::from(n)).for_each(|i| f(Loc::new(kind_space(e.kind), i)));
             }
@@ -330,6 +342,12 @@ impl MachineView for Dl205 {
         out.extend(self.program.used_bits.iter().map(|&b| bit_loc(b)));
         out.extend((0..SPECIAL.len() as u32).map(|i| Loc::new(SP, i)));
         out
+    }
+    fn call_stack_lines(&self) -> Vec<usize> {
+        self.calls
+            .iter()
+            .map(|f| crate::machine::ScanSteps::instruction_line(self, f.ret as usize))
+            .collect()
     }
     fn pc_line(&self) -> Option<usize> {
         self.program.instrs.get(self.pc as usize).map(|i| i.line)

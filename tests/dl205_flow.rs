@@ -1,0 +1,239 @@
+//! DL205 program control against `dl205.md` §2, §5, §6.8 and §6.10: GOTO/LBL, FOR/NEXT,
+//! GTS/SBR/RT/RTC, MLS/MLR, stages with their clean-up pass, and what counts as a step.
+
+use servoscope::debugger::Debugger;
+use servoscope::machine::dl205::Dl205;
+use servoscope::machine::dl205::assembler::assemble;
+use servoscope::machine::{Machine, MachineView};
+use std::sync::Arc;
+
+fn plc(src: &str) -> Dl205 {
+    let program = assemble(src).unwrap_or_else(|e| panic!("assembles: {e:?}\n{src}"));
+    Dl205::new(Arc::new(program))
+}
+
+fn get(m: &Dl205, name: &str) -> u64 {
+    m.read(m.find(name).unwrap_or_else(|| panic!("{name}")))
+}
+
+fn set(m: &mut Dl205, name: &str, v: u64) {
+    let loc = m.find(name).unwrap_or_else(|| panic!("{name}"));
+    m.write(loc, v).unwrap();
+}
+
+fn scan(m: &mut Dl205) -> u64 {
+    let steps = m.steps();
+    let t = m.ticks();
+    m.run_until(t + 1, |_| false);
+    m.steps() - steps
+}
+
+fn settle(d: &mut Debugger) {
+    while d.advance(0.016, std::time::Duration::from_millis(200)) {}
+}
+
+fn errors(src: &str) -> Vec<String> {
+    match assemble(src) {
+        Ok(_) => Vec::new(),
+        Err(e) => e.iter().map(ToString::to_string).collect(),
+    }
+}
+
+#[test]
+fn goto_skips_forward_and_skipped_code_is_not_a_step() {
+    let mut m = plc("STR X0\nGOTO K1\nSTR SP1\nOUT Y0\nLBL K1\nSTR SP1\nOUT Y1\nEND");
+    assert_eq!(scan(&mut m), 8);
+    assert_eq!((get(&m, "Y0"), get(&m, "Y1")), (1, 1));
+    set(&mut m, "X0", 1);
+    // STR, GOTO, LBL, STR, OUT, END: the skipped rung keeps Y0 as it was.
+    assert_eq!(scan(&mut m), 6);
+    assert_eq!((get(&m, "Y0"), get(&m, "Y1")), (1, 1));
+}
+
+#[test]
+fn for_next_runs_its_body_n_times() {
+    let mut m = plc("STR SP1\nFOR K3\nSTR SP1\nINCB V0\nNEXT\nEND");
+    // STR, FOR, 3 × (STR, INCB, NEXT), END.
+    assert_eq!(scan(&mut m), 12);
+    assert_eq!(get(&m, "V0"), 3);
+    // An unpowered FOR continues after its NEXT.
+    let mut m = plc("STR X0\nFOR K3\nSTR SP1\nINCB V0\nNEXT\nEND");
+    assert_eq!(scan(&mut m), 3);
+    assert_eq!(get(&m, "V0"), 0);
+    // A count from V: BCD; 0 runs nothing, a non-BCD count sets SP75 and runs nothing.
+    let mut m = plc("STR SP1\nFOR V1\nSTR SP1\nINCB V0\nNEXT\nEND");
+    set(&mut m, "V1", 0x12);
+    scan(&mut m);
+    assert_eq!(get(&m, "V0"), 12);
+    set(&mut m, "V1", 0x1A);
+    scan(&mut m);
+    assert_eq!((get(&m, "V0"), get(&m, "SP75")), (12, 1));
+    // A timer in a loop counts its scan once (§9.14).
+    let mut m = plc("STR SP1\nFOR K5\nSTR SP1\nTMRF T0 K100\nNEXT\nEND");
+    scan(&mut m);
+    assert_eq!(get(&m, "TA0"), 1);
+}
+
+#[test]
+fn subroutines_return_with_the_callers_rung() {
+    let src = "STR SP1\nGTS K1\nOUT Y1\nSTR X0\nGTS K2\nEND\nSBR K1\nSTR SP1\nINCB V0\nRT\n\
+               SBR K2\nSTR X1\nRTC\nSTR SP1\nINCB V1\nRT\nSBR K3\nSTR SP1\nINCB V2\nRT\n";
+    let mut m = plc(src);
+    scan(&mut m);
+    // The caller's rung (SP1) powers OUT Y1 after the return; K3 is never called.
+    assert_eq!((get(&m, "V0"), get(&m, "Y1"), get(&m, "V2")), (1, 1, 0));
+    set(&mut m, "X0", 1);
+    scan(&mut m);
+    assert_eq!(get(&m, "V1"), 1, "K2 ran to RT");
+    set(&mut m, "X1", 1);
+    scan(&mut m);
+    assert_eq!(get(&m, "V1"), 1, "RTC returned early");
+}
+
+#[test]
+fn step_over_runs_a_subroutine_whole_and_step_out_leaves_it() {
+    let dl205 = servoscope::machine::registry::by_name("dl205").expect("registered");
+    let src = "STR SP1\nGTS K1\nSTR SP1\nOUT Y1\nEND\nSBR K1\nSTR SP1\nINCB V0\nINCB V0\nRT\n";
+    let mut d = Debugger::with_dialect(dl205, "call.dl205", src);
+    d.step_command();
+    d.step_over();
+    settle(&mut d);
+    let m = d.machine();
+    assert_eq!(m.pc_line(), Some(3), "stopped after the GTS");
+    assert_eq!(m.read(m.find("V0").unwrap()), 2);
+    let mut d = Debugger::with_dialect(dl205, "call.dl205", src);
+    for _ in 0..4 {
+        d.step_command();
+    }
+    assert_eq!(d.machine().call_depth(), 1, "inside the subroutine");
+    d.step_out();
+    settle(&mut d);
+    assert_eq!(d.machine().call_depth(), 0);
+    assert_eq!(d.machine().pc_line(), Some(3));
+}
+
+#[test]
+fn master_lines_cut_the_power_of_their_zone() {
+    let src = "STR X0\nMLS K1\nSTR SP1\nOUT Y0\nSTR SP1\nSTR SP2\nTMRA T2 K50\nMLR K0\nSTR SP1\nOUT Y1\nEND";
+    let mut m = plc(src);
+    set(&mut m, "Y0", 1);
+    scan(&mut m);
+    // Zone 1 is off: OUT writes 0, the TMRA's legs see no power (it holds, not resets).
+    assert_eq!((get(&m, "Y0"), get(&m, "Y1"), get(&m, "TA2")), (0, 1, 0));
+    set(&mut m, "X0", 1);
+    for _ in 0..10 {
+        scan(&mut m);
+    }
+    assert_eq!((get(&m, "Y0"), get(&m, "TA2")), (1, 0x1));
+}
+
+#[test]
+fn stages_run_skip_and_clean_up() {
+    let src = "ISG S0\nSTR SP1\nOUT Y0\nSTR X0\nJMP S1\nSG S1\nSTR SP1\nOUT Y1\nSTR SP1\nTMR T1 K50\nSTR X1\nJMP S0\nEND";
+    let mut m = plc(src);
+    assert_eq!(get(&m, "S0"), 1, "ISG is on before scan 0");
+    // S0 runs, S1 is skipped: its instructions are not steps.
+    assert_eq!(scan(&mut m), 6 + 1);
+    assert_eq!((get(&m, "Y0"), get(&m, "Y1")), (1, 0));
+    set(&mut m, "X0", 1);
+    scan(&mut m);
+    // The jump goes to a later stage: it runs in the same scan; S0 still ran to its end.
+    assert_eq!((get(&m, "S0"), get(&m, "S1"), get(&m, "Y1")), (0, 1, 1));
+    assert_eq!(get(&m, "Y0"), 1, "S0 cleans up in the next scan");
+    set(&mut m, "X0", 0);
+    scan(&mut m);
+    assert_eq!(get(&m, "Y0"), 0, "the clean-up pass turned S0's coil off");
+    for _ in 0..8 {
+        scan(&mut m);
+    }
+    assert_ne!(get(&m, "TA1"), 0);
+    set(&mut m, "X1", 1);
+    scan(&mut m);
+    set(&mut m, "X1", 0);
+    assert_eq!((get(&m, "S0"), get(&m, "S1")), (1, 0));
+    // The target is before S1: it runs from the next scan, when S1 also cleans up.
+    scan(&mut m);
+    assert_eq!(
+        (get(&m, "Y0"), get(&m, "Y1"), get(&m, "TA1"), get(&m, "T1")),
+        (1, 0, 0, 0)
+    );
+}
+
+#[test]
+fn the_push_on_off_example_switches_once_per_press() {
+    let mut m = plc(include_str!("../assets/examples/push_on_off.dl205"));
+    let mut lamp = Vec::new();
+    for x0 in [0, 1, 1, 0, 0, 1, 1, 1, 0, 0, 1, 0] {
+        set(&mut m, "X0", x0);
+        scan(&mut m);
+        lamp.push(get(&m, "Y0"));
+    }
+    // On in the scan of the first press (S1 comes after S0: it runs in the same scan). The
+    // second press turns S2 off after its OUT ran: the lamp goes off in the next scan, S2's
+    // clean-up pass.
+    assert_eq!(lamp, [0, 1, 1, 1, 1, 1, 0, 0, 0, 0, 1, 1]);
+}
+
+#[test]
+fn control_structure_errors() {
+    let cases = [
+        ("STR X0\nGOTO K2\nEND", "GOTO K2: no LBL K2"),
+        ("LBL K1\nSTR X0\nGOTO K1\nEND", "GOTO only jumps forward"),
+        (
+            "STR SP1\nFOR K2\nSTR X0\nGOTO K1\nNEXT\nLBL K1\nEND",
+            "leaves its block",
+        ),
+        ("STR SP1\nFOR K2\nSTR SP1\nOUT Y0\nEND", "FOR without NEXT"),
+        ("NEXT\nEND", "NEXT without FOR"),
+        (
+            "STR SP1\nFOR K2\nSTR SP1\nFOR K2\nNEXT\nNEXT\nEND",
+            "loops do not nest",
+        ),
+        ("STR SP1\nGTS K5\nEND", "GTS K5: no SBR K5"),
+        (
+            "STR SP1\nGTS K1\nEND\nSBR K1\nSTR SP1\nGTS K1\nRT",
+            "recursion",
+        ),
+        (
+            "STR SP1\nGTS K1\nEND\nSBR K1\nSTR SP1\nOUT Y0",
+            "SBR without RT",
+        ),
+        (
+            "STR SP1\nOUT Y0\nEND\nSTR SP1\nOUT Y1",
+            "only subroutines (SBR … RT) may follow END",
+        ),
+        ("STR SP1\nOUT Y0\nRT\nEND", "RT outside a subroutine"),
+        (
+            "STR X0\nJMP S1\nSG S1\nSTR SP1\nOUT Y0\nEND",
+            "JMP outside a stage",
+        ),
+        ("SG S1\nSTR X0\nJMP S7\nEND", "no SG or ISG S7"),
+        (
+            "SG S1\nSTR X0\nOUT Y0\nSG S1\nSTR X0\nOUT Y1\nEND",
+            "already has its SG/ISG",
+        ),
+        ("STR X0\nMLS K2\nEND", "MLS K2 must follow level 1"),
+        (
+            "STR X0\nMLS K1\nMLR K1\nEND",
+            "MLR K1 must be below the current level 1",
+        ),
+        ("STR SP1\nFOR K2\nAND X1\nNEXT\nEND", "AND after FOR"),
+        ("LBL K1\nLBL K1\nEND", "LBL K1 is already defined"),
+    ];
+    for (src, want) in cases {
+        let e = errors(src);
+        assert!(
+            e.iter().any(|m| m.contains(want)),
+            "{src}\n{e:#?}\nshould say {want}"
+        );
+    }
+    let deep: String = (1..=9)
+        .map(|k| format!("SBR K{k}\nSTR SP1\nGTS K{}\nRT\n", k + 1))
+        .collect::<String>()
+        + "SBR K10\nSTR SP1\nOUT Y0\nRT\n";
+    let e = errors(&format!("STR SP1\nGTS K1\nEND\n{deep}"));
+    assert!(
+        e.iter().any(|m| m.contains("calls nested 10 deep")),
+        "{e:#?}"
+    );
+}
