@@ -237,3 +237,78 @@ fn control_structure_errors() {
         "{e:#?}"
     );
 }
+
+// ---- Tables and bit-mapped words (§1, §6.6) --------------------------------------------
+
+/// Manual p. 5-149: `STR X0 / LD K2 / LDA O3000 / SETBIT O34` sets V3001 bit 12.
+#[test]
+fn setbit_the_manuals_example() {
+    let mut m = plc("STR X0\nLD K2\nLDA O3000\nSETBIT O34\nEND");
+    set(&mut m, "X0", 1);
+    scan(&mut m);
+    assert_eq!(get(&m, "V3001"), 0x1000);
+    let mut m = plc("STR SP1\nLD K2\nLDA O3000\nRSTBIT O34\nEND");
+    set(&mut m, "V3001", 0xFFFF);
+    scan(&mut m);
+    assert_eq!(get(&m, "V3001"), 0xEFFF);
+}
+
+#[test]
+fn mov_copies_ascending_and_checks_its_range() {
+    let mut m = plc("STR SP1\nLD K3\nLDA O2000\nMOV V3000\nEND");
+    for (i, v) in [11, 22, 33].into_iter().enumerate() {
+        set(&mut m, &format!("V{:o}", 0o2000 + i), v);
+    }
+    scan(&mut m);
+    assert_eq!(
+        (get(&m, "V3000"), get(&m, "V3001"), get(&m, "V3002")),
+        (11, 22, 33)
+    );
+    assert_eq!(
+        (get(&m, "SP53"), get(&m, "ACC"), get(&m, "L1")),
+        (0, 0o2000, 3),
+        "ACC and stack kept"
+    );
+    // Overlapping upwards copies ascending: each word takes the one below it, already copied.
+    let mut m = plc("STR SP1\nLD K3\nLDA O2000\nMOV V2001\nEND");
+    set(&mut m, "V2000", 7);
+    scan(&mut m);
+    assert_eq!(
+        (get(&m, "V2001"), get(&m, "V2002"), get(&m, "V2003")),
+        (7, 7, 7)
+    );
+    let mut m = plc("STR SP1\nLD K2\nLDA O37777\nMOV V100\nEND");
+    scan(&mut m);
+    assert_eq!(
+        (get(&m, "SP53"), get(&m, "SP75"), get(&m, "V100")),
+        (1, 0, 0)
+    );
+    let mut m = plc("STR SP1\nLD KA\nLDA O100\nMOV V200\nEND");
+    scan(&mut m);
+    assert_eq!((get(&m, "SP75"), get(&m, "SP53")), (1, 0));
+}
+
+#[test]
+fn bit_mapped_words_read_and_write_their_elements() {
+    let src = "STR SP1\nLD VX0\nOUT V2000\nLD K5\nOUT VY0\nLD K3\nOUT VC20\nLD VSP0\nOUT V2001\nLD VS0\nOUT V2002\nEND";
+    let mut m = plc(src);
+    set(&mut m, "X0", 1);
+    set(&mut m, "X3", 1);
+    set(&mut m, "S1", 1);
+    scan(&mut m);
+    assert_eq!(get(&m, "V2000"), 0b1001, "X0 and X3");
+    assert_eq!((get(&m, "Y0"), get(&m, "Y1"), get(&m, "Y2")), (1, 0, 1));
+    assert_eq!((get(&m, "C20"), get(&m, "C21"), get(&m, "C22")), (1, 1, 0));
+    assert_eq!(get(&m, "V2001") & 0b11, 0b11, "SP0 and SP1 in scan 0");
+    assert_eq!(get(&m, "V2002"), 0b10, "S1");
+    assert_eq!(m.find("VY0"), m.find("V40500"));
+    assert_eq!(get(&m, "VY0"), 5);
+    assert_eq!(get(&m, "VC20"), 3);
+    let e = |src: &str| errors(src);
+    assert!(e("STR SP1\nLD K1\nOUT VX0\nEND")[0].contains("VX0 is read-only"));
+    assert!(e("STR SP1\nINCB V41100\nEND")[0].contains("read-only"));
+    assert!(e("STR SP1\nLD V40000\nEND")[0].contains("GX/GY"));
+    assert!(e("STR SP1\nLD V41120\nEND")[0].contains("does not exist"));
+    assert!(e("STR SP1\nLD VX7\nEND")[0].contains("multiple of 20"));
+    assert!(e("STR SP1\nLD VX1760\nLD VT360\nLD VCT360\nLD VSP760\nOUTD VS1740\nEND").is_empty());
+}

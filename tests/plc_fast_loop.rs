@@ -280,7 +280,8 @@ fn dl_output() -> impl Strategy<Value = String> {
             "RST CT2", "RST T0 T3",
         ]).prop_map(str::to_string),
         2 => prop::sample::select(vec![
-            "CMP V0", "CMP K1234", "CMPD V2", "CMPD K5", "INV",
+            "CMP V0", "CMP K1234", "CMPD V2", "CMPD K5", "INV", "LD VX0", "OUT VY0", "LDD VSP0",
+            "OUT VC0", "MOV V200", "SETBIT O5", "RSTBIT O21",
         ]).prop_map(str::to_string),
         2 => (prop::sample::select(vec!["TMR", "TMRF", "SGCNT"]), 0u32..12, prop::sample::select(vec!["K3", "K0", "V0", "K9999"]))
             .prop_map(|(m, n, p)| {

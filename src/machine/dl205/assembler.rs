@@ -2,8 +2,9 @@
 //! once; the rung-structure checks run only when every line is valid.
 
 use super::program::{
-    Bit, BoxDecl, Cmp, CounterKind, D, Edge, Instr, Kind, Logic, Math, Op, Preset, Program,
-    SPECIAL, ShiftKind, Src, Test, TimerKind, W, box_shape, current_word,
+    Bit, BoxDecl, Cmp, CounterKind, D, Edge, Instr, Kind, Logic, MAPPED, Math, Op, Preset,
+    Program, SPECIAL, ShiftKind, Src, Table, Test, TimerKind, W, box_shape, current_word, mapped,
+    writable_word,
 };
 use crate::machine::Diagnostic;
 use crate::machine::diagnostics::Suggester;
@@ -17,7 +18,7 @@ pub const MNEMONICS: &[&str] = &[
     "SHFL", "SHFR", "ROTL", "ROTR", "NOT", "STRPD", "STRND", "ANDPD", "ANDND", "ORPD", "ORND",
     "PD", "OROUT", "INV", "CMP", "CMPD", "TMR", "TMRF", "TMRA", "TMRAF", "CNT", "SGCNT", "UDC",
     "GOTO", "LBL", "FOR", "NEXT", "GTS", "SBR", "RT", "RTC", "MLS", "MLR", "SG", "ISG", "JMP",
-    "NJMP",
+    "NJMP", "MOV", "SETBIT", "RSTBIT",
 ];
 
 pub const UNSUPPORTED: &[&str] = &[
@@ -25,7 +26,7 @@ pub const UNSUPPORTED: &[&str] = &[
     "ANDI", "ANDNI", "ORI", "ORNI", "OUTI", "SETI", "RSTI", "LDI", "LDIF", "OUTIF",
     "CMPS", "CMPR", "CMPF", "ENCO", "DECO", "SUM", "LDX", "LDSX", "OUTX", "OUTL", "LDR",
     "ADDR", "SUBR", "MULR", "DIVR", "ADDF", "SUBF", "MULF", "DIVF", "ANDF", "ORF", "XORF", "SQRTR",
-    "MOV", "MOVMC", "LDLBL", "BCDCPL", "BTOR", "RTOB", "ATH", "HTA", "SEG", "GRAY", "SFLDGT",
+    "MOVMC", "LDLBL", "BCDCPL", "BTOR", "RTOB", "ATH", "HTA", "SEG", "GRAY", "SFLDGT",
     "SWAP", "TTD", "RTD", "CV", "CVJMP", "BCALL", "BEND", "BREAK", "INT", "IRT", "IRTC",
     "ENI", "DISI", "STOP", "PAUSE", "RD", "WT", "RX", "WX", "PRINT", "DLBL", "NCON", "ACON",
     "FAULT",
@@ -120,20 +121,45 @@ fn v_addr(t: &Tok, pair: bool, program: &mut Program) -> Result<u32, Error> {
             }
             current_word(if letters == "TA" { Kind::T } else { Kind::Ct }, n)
         }
-        _ => return err(t.col, format!("'{}' is not a V-memory word", t.text)),
+        // A bit-mapped word by its elements: VX20 holds X20–X37.
+        name => match MAPPED.iter().find(|m| m.3 == name) {
+            Some(&(first, last, kind, _)) => {
+                let n = octal(digits, t)?;
+                if n % 0o20 != 0 {
+                    return err(t.col, format!("{}: a bit-mapped word starts at a multiple of 20 ({name}0, {name}20, …)", t.text));
+                }
+                let a = first + n / 16;
+                if a > last {
+                    return err(t.col, format!("{} is out of range ({name}0–{name}{:o}, the {} elements)", t.text, (last - first) * 16, kind.letter()));
+                }
+                a
+            }
+            None => return err(t.col, format!("'{}' is not a V-memory word", t.text)),
+        },
     };
-    if (0o40000..=0o41237).contains(&n) {
-        return err(t.col, format!("{} is a bit-mapped/system word, not supported by servoscope yet", t.text));
+    if (0o40000..0o40400).contains(&n) {
+        return err(t.col, format!("{} is a GX/GY remote I/O word, not supported by servoscope yet", t.text));
     }
-    if n >= V_WORDS {
-        return err(t.col, format!("{} is out of range (V0–V37777)", t.text));
+    if n >= V_WORDS && mapped(n).is_none() {
+        return err(t.col, format!("{} does not exist (V0–V37777 data, V40400–V41237 bit-mapped words)", t.text));
     }
-    if pair && n + 1 >= V_WORDS {
-        return err(t.col, format!("{} and the next word run past V37777", t.text));
+    if pair && n + 1 >= V_WORDS && mapped(n + 1).is_none() {
+        let what = if n < V_WORDS { "V37777" } else { "its bit-mapped region" };
+        return err(t.col, format!("{} and the next word run past {what}", t.text));
     }
     program.used_v.push(n);
     if pair {
         program.used_v.push(n + 1);
+    }
+    Ok(n)
+}
+
+/// A V word (or pair) an instruction writes: data words, VY, VC and VS; the X, T, CT and SP
+/// words belong to the scan and the boxes (spec §1, §9.24).
+fn v_dest(t: &Tok, pair: bool, program: &mut Program) -> Result<u32, Error> {
+    let n = v_addr(t, pair, program)?;
+    if !writable_word(n) || (pair && !writable_word(n + 1)) {
+        return err(t.col, format!("{} is read-only: the X, T, CT and SP bit-mapped words cannot be written", t.text));
     }
     Ok(n)
 }
@@ -154,7 +180,7 @@ fn is_bcd(v: u32) -> bool {
 /// Whether a token names a V word (Vn, TAn, CTAn) rather than a constant.
 fn is_word(t: &Tok) -> bool {
     let (letters, _) = split(t);
-    matches!(letters.as_str(), "V" | "TA" | "CTA")
+    matches!(letters.as_str(), "V" | "TA" | "CTA") || MAPPED.iter().any(|m| m.3 == letters)
 }
 
 /// A 16-bit source: V, or K up to `max` (BCD-checked when `bcd`).
@@ -298,10 +324,10 @@ fn instruction(ts: &[Tok], program: &mut Program, suggester: &Suggester) -> Resu
         "OUT" => {
             want(1)?;
             let t = &args[0];
-            let (letters, _) = split(t);
-            match letters.as_str() {
-                "V" | "TA" | "CTA" => Op::OutV(v_addr(t, false, program)?),
-                _ => Op::Coil(coil(t, "OUT", program)?),
+            if is_word(t) {
+                Op::OutV(v_dest(t, false, program)?)
+            } else {
+                Op::Coil(coil(t, "OUT", program)?)
             }
         }
         "SET" | "RST" => {
@@ -462,6 +488,22 @@ fn instruction(ts: &[Tok], program: &mut Program, suggester: &Suggester) -> Resu
                 _ => Op::Njmp { to: b.n, own: 0 },
             }
         }
+        "MOV" => {
+            want(1)?;
+            Op::Table(Table::Mov, v_dest(&args[0], false, program)?)
+        }
+        "SETBIT" | "RSTBIT" => {
+            want(1)?;
+            let (letters, digits) = split(&args[0]);
+            if letters != "O" {
+                return err(args[0].col, format!("'{}': {m} takes a bit number as an octal constant On", args[0].text));
+            }
+            let n = octal(digits, &args[0])?;
+            if n > 0o177777 {
+                return err(args[0].col, format!("{} is out of range (O0–O177777)", args[0].text));
+            }
+            Op::Table(if m == "SETBIT" { Table::SetBit } else { Table::RstBit }, n)
+        }
         "END" => {
             want(0)?;
             Op::End
@@ -525,7 +567,7 @@ fn instruction(ts: &[Tok], program: &mut Program, suggester: &Suggester) -> Resu
                     }
                     if m == "LDF" { Op::Ldf(e, n) } else { Op::OutF(e, n) }
                 }
-                "OUTD" => Op::OutD(v_addr(t, true, program)?),
+                "OUTD" => Op::OutD(v_dest(t, true, program)?),
                 "ADD" => Op::Bcd(Math::Add, Src::Word(word(t, false, true, 0, 0x9999, program)?)),
                 "SUB" => Op::Bcd(Math::Sub, Src::Word(word(t, false, true, 0, 0x9999, program)?)),
                 "ADDD" => Op::Bcd(Math::Add, Src::Double(double(t, true, true, program)?)),
@@ -540,8 +582,8 @@ fn instruction(ts: &[Tok], program: &mut Program, suggester: &Suggester) -> Resu
                 "SUBBD" => Op::Binary(Math::Sub, Src::Double(double(t, true, false, program)?)),
                 "MULB" => Op::Binary(Math::Mul, Src::Word(word(t, true, false, 0, 0xFFFF, program)?)),
                 "DIVB" => Op::Binary(Math::Div, Src::Word(word(t, true, false, 1, 0xFFFF, program)?)),
-                "INCB" => Op::IncB(v_addr(t, false, program)?),
-                "DECB" => Op::DecB(v_addr(t, false, program)?),
+                "INCB" => Op::IncB(v_dest(t, false, program)?),
+                "DECB" => Op::DecB(v_dest(t, false, program)?),
                 "ANDD" => Op::LogicD(Logic::And, double(t, true, false, program)?),
                 "ORD" => Op::LogicD(Logic::Or, double(t, true, false, program)?),
                 "XORD" => Op::LogicD(Logic::Xor, double(t, true, false, program)?),

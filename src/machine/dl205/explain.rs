@@ -160,6 +160,19 @@ pub fn explain(m: &Dl205) -> Option<String> {
             };
             format!("{text}: {range} = {}", u8::from(on))
         }
+        Op::Table(kind, operand) => match m.table_span() {
+            None => format!("{text}: the count in L1 is not BCD: SP75 = 1, nothing else changed"),
+            Some(_) if m.raised_error => format!("{text}: the table runs past V37777: SP53 = 1, nothing else changed"),
+            Some((start, count)) => match kind {
+                super::program::Table::Mov => format!("{text}: {count} word(s) V{start:o}… copied to V{operand:o}…"),
+                _ => format!(
+                    "{text}: bit {} of V{:o} = {}",
+                    operand % 16,
+                    start + operand / 16,
+                    u8::from(kind == super::program::Table::SetBit)
+                ),
+            },
+        },
         Op::Goto(to) => format!("{text}: jump to line {}", line_of(m, to)),
         Op::For(_, next) => match m.loop_state {
             Some(l) if m.pc != next + 1 => format!("{text}: loop of {} turn(s)", l.left),

@@ -8,7 +8,7 @@
 use std::sync::Arc;
 
 use super::program::{Bit, D, Instr, Kind, Op, Test, W, box_shape, current_word};
-use super::view::{ACC, SP, V, bit_loc, kind_space};
+use super::view::{ACC, SP, V, bit_loc, kind_space, word_writes};
 use super::{Dl205, LEVELS};
 use crate::machine::{Loc, WriteSet};
 
@@ -114,10 +114,17 @@ pub fn scan_writes(instrs: &[Instr]) -> WriteSet {
             Op::OutF(e, n) => {
                 (e.n..e.n + u32::from(n)).for_each(|i| set.insert(Loc::new(kind_space(e.kind), i)));
             }
-            Op::OutV(a) | Op::IncB(a) | Op::DecB(a) => set.insert(Loc::new(V, a)),
+            Op::OutV(a) | Op::IncB(a) | Op::DecB(a) => word_writes(a, &mut |l| set.insert(l)),
             Op::OutD(a) => {
-                set.insert(Loc::new(V, a));
-                set.insert(Loc::new(V, a + 1));
+                word_writes(a, &mut |l| set.insert(l));
+                word_writes(a + 1, &mut |l| set.insert(l));
+            }
+            // A table's words come from ACC and L1 at run time: any V word (256 consecutive
+            // indices fill the Bloom set's bits for the space), and its error flags.
+            Op::Table(..) => {
+                (0..256).for_each(|i| set.insert(Loc::new(V, i)));
+                set.insert(Loc::new(SP, super::program::sp::SP53 as u32));
+                set.insert(Loc::new(SP, super::program::sp::SP75 as u32));
             }
             op if op.is_output() => accumulator = true,
             _ => {}
@@ -161,7 +168,7 @@ impl Dl205 {
             }
             Flat::LoadWord(a) => {
                 self.rung_has_output = true;
-                let v = u32::from(self.v[a as usize]);
+                let v = u32::from(self.word(a));
                 self.load(v);
             }
             Flat::LoadPair(a) => {
@@ -171,13 +178,13 @@ impl Dl205 {
             }
             Flat::OutWord(a) => {
                 self.rung_has_output = true;
-                self.v[a as usize] = self.acc as u16;
+                self.set_word(a, self.acc as u16);
                 self.load_pending = false;
             }
             Flat::OutPair(a) => {
                 self.rung_has_output = true;
-                self.v[a as usize] = self.acc as u16;
-                self.v[a as usize + 1] = (self.acc >> 16) as u16;
+                self.set_word(a, self.acc as u16);
+                self.set_word(a + 1, (self.acc >> 16) as u16);
                 self.load_pending = false;
             }
             Flat::Pop => {

@@ -266,16 +266,60 @@ impl Dl205 {
         }
     }
 
+    /// V word `a`: a data word, or a bit-mapped word (V40400–V41237) read from its bits.
+    #[inline(always)]
+    pub fn word(&self, a: u32) -> u16 {
+        match self.v.get(a as usize) {
+            Some(&w) => w,
+            None => self.mapped_word(a),
+        }
+    }
+
+    #[inline(always)]
+    pub(super) fn set_word(&mut self, a: u32, value: u16) {
+        match self.v.get_mut(a as usize) {
+            Some(w) => *w = value,
+            None => self.set_mapped_word(a, value),
+        }
+    }
+
+    fn mapped_word(&self, a: u32) -> u16 {
+        let Some((kind, first)) = program::mapped(a) else {
+            return 0;
+        };
+        (0..16).fold(0u16, |word, i| {
+            let n = first + i;
+            let on = match kind {
+                // Unmodelled special relays read 0.
+                Kind::Sp => program::SPECIAL
+                    .iter()
+                    .position(|&s| s == n)
+                    .is_some_and(|i| self.sp[i]),
+                _ => self.bit(Bit { kind, n }),
+            };
+            word | (u16::from(on) << i)
+        })
+    }
+
+    /// Only VY, VC and VS words are written (the assembler refuses the others).
+    fn set_mapped_word(&mut self, a: u32, value: u16) {
+        if let Some((kind @ (Kind::Y | Kind::C | Kind::S), first)) = program::mapped(a) {
+            for i in 0..16 {
+                self.set_bit(Bit { kind, n: first + i }, value >> i & 1 == 1);
+            }
+        }
+    }
+
     fn w(&self, w: W) -> u32 {
         match w {
-            W::V(a) => u32::from(self.v[a as usize]),
+            W::V(a) => u32::from(self.word(a)),
             W::K(k) => u32::from(k),
         }
     }
 
     /// A pair: Vn low word, Vn+1 high word.
     pub fn pair(&self, a: u32) -> u32 {
-        u32::from(self.v[a as usize]) | (u32::from(self.v[a as usize + 1]) << 16)
+        u32::from(self.word(a)) | (u32::from(self.word(a + 1)) << 16)
     }
 
     fn d(&self, d: D) -> u32 {
@@ -346,7 +390,7 @@ impl Dl205 {
                 self.edge_fired
             }
             Test::Compare(a, b, kind) => {
-                let (x, y) = (u32::from(self.v[a as usize]), self.w(b));
+                let (x, y) = (u32::from(self.word(a)), self.w(b));
                 match kind {
                     Cmp::Eq => x == y,
                     Cmp::Ne => x != y,
@@ -584,7 +628,7 @@ impl Dl205 {
                 self.rung_has_output = true;
                 let turns = match count {
                     W::K(k) => bcd_value(u32::from(k), 4),
-                    W::V(a) => bcd_value(u32::from(self.v[a as usize]), 4),
+                    W::V(a) => bcd_value(u32::from(self.word(a)), 4),
                 };
                 let turns = turns.unwrap_or_else(|| {
                     self.non_bcd();
@@ -782,21 +826,21 @@ impl Dl205 {
         if words == 2 {
             self.pair(addr)
         } else {
-            u32::from(self.v[addr as usize])
+            u32::from(self.word(addr))
         }
     }
 
     fn set_box_value(&mut self, addr: u32, words: u32, value: u32) {
-        self.v[addr as usize] = value as u16;
+        self.set_word(addr, value as u16);
         if words == 2 {
-            self.v[addr as usize + 1] = (value >> 16) as u16;
+            self.set_word(addr + 1, (value >> 16) as u16);
         }
     }
 
     fn preset(&self, preset: Preset) -> u32 {
         match preset {
             Preset::K(k) => k,
-            Preset::Word(a) => u32::from(self.v[a as usize]),
+            Preset::Word(a) => u32::from(self.word(a)),
             Preset::Pair(a) => self.pair(a),
         }
     }
@@ -905,6 +949,7 @@ impl Dl205 {
                     self.set_bit(Bit { kind: a.kind, n }, on);
                 }
             }
+            Op::Table(kind, operand) => self.table(kind, operand),
             Op::Inv => {
                 self.acc = !self.acc;
                 self.zn();
@@ -934,12 +979,12 @@ impl Dl205 {
                 self.load(v);
             }
             Op::OutV(a) => {
-                self.v[a as usize] = self.acc as u16;
+                self.set_word(a, self.acc as u16);
                 self.load_pending = false;
             }
             Op::OutD(a) => {
-                self.v[a as usize] = self.acc as u16;
-                self.v[a as usize + 1] = (self.acc >> 16) as u16;
+                self.set_word(a, self.acc as u16);
+                self.set_word(a + 1, (self.acc >> 16) as u16);
                 self.load_pending = false;
             }
             Op::OutF(e, n) => {
@@ -952,13 +997,14 @@ impl Dl205 {
             Op::Bcd(m, s) => self.bcd_math(m, s),
             Op::Binary(m, s) => self.binary_math(m, s),
             Op::IncB(a) | Op::DecB(a) => {
-                let v = &mut self.v[a as usize];
-                *v = if matches!(op, Op::IncB(_)) {
-                    v.wrapping_add(1)
+                let was = self.word(a);
+                let now = if matches!(op, Op::IncB(_)) {
+                    was.wrapping_add(1)
                 } else {
-                    v.wrapping_sub(1)
+                    was.wrapping_sub(1)
                 };
-                self.sp[sp::SP63] = *v == 0;
+                self.set_word(a, now);
+                self.sp[sp::SP63] = now == 0;
             }
             Op::ToBin => match bcd_value(self.acc, 8) {
                 Some(v) => {
@@ -973,7 +1019,7 @@ impl Dl205 {
                 self.zn();
             }
             Op::LogicV(l, a) => {
-                let w = u32::from(self.v[a as usize]);
+                let w = u32::from(self.word(a));
                 self.acc = apply(l, self.acc & 0xFFFF, w);
                 self.sp[sp::SP63] = self.acc == 0;
             }
@@ -1036,6 +1082,53 @@ impl Dl205 {
                 })
             })
             .collect()
+    }
+
+    /// The table of MOV/SETBIT/RSTBIT: its start (low word of ACC) and BCD count (L1), or
+    /// None for a non-BCD count.
+    pub(super) fn table_span(&self) -> Option<(u32, u32)> {
+        let count = bcd_value(self.stack[0] & 0xFFFF, 4)?;
+        Some((self.acc & 0xFFFF, count as u32))
+    }
+
+    /// MOV, SETBIT, RSTBIT (spec §6.6, §9.25): ACC and the stack stay as they are.
+    fn table(&mut self, kind: program::Table, operand: u32) {
+        let Some((start, count)) = self.table_span() else {
+            self.non_bcd();
+            return;
+        };
+        let last = V_WORDS as u32 - 1;
+        match kind {
+            program::Table::Mov => {
+                if count > 0 && (start + count - 1 > last || operand + count - 1 > last) {
+                    self.out_of_range();
+                    return;
+                }
+                for i in 0..count {
+                    let w = self.word(start + i);
+                    self.set_word(operand + i, w);
+                }
+            }
+            program::Table::SetBit | program::Table::RstBit => {
+                let word = start + operand / 16;
+                if operand >= 16 * count || word > last {
+                    self.out_of_range();
+                    return;
+                }
+                let bit = 1u16 << (operand % 16);
+                let w = self.word(word);
+                let w = if kind == program::Table::SetBit { w | bit } else { w & !bit };
+                self.set_word(word, w);
+            }
+        }
+        self.sp[sp::SP53] = false;
+        self.sp[sp::SP75] = false;
+    }
+
+    /// A table past V37777: SP53 = 1, SP75 = 0, nothing else (spec §6.6).
+    fn out_of_range(&mut self) {
+        self.divide_by_zero();
+        self.sp[sp::SP75] = false;
     }
 
     /// CMP/CMPD: SP60 less, SP61 equal, SP62 greater (unsigned).

@@ -128,6 +128,15 @@ pub enum Preset {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Table {
+    /// Copy the table to the one at this V address.
+    Mov,
+    /// Set / clear bit n (the operand) of the table.
+    SetBit,
+    RstBit,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TimerKind {
     Tmr,
     Tmrf,
@@ -186,6 +195,35 @@ pub fn box_shape(op: &Op) -> Option<(u32, usize)> {
         Op::Counter(CounterKind::Udc, ..) => Some((2, 3)),
         _ => None,
     }
+}
+
+/// The bit-mapped words (spec §1, DL260 memory map): each region's first V address, the
+/// element kind, and the name DirectSOFT gives its words.
+pub const MAPPED: [(u32, u32, Kind, &str); 7] = [
+    (0o40400, 0o40477, Kind::X, "VX"),
+    (0o40500, 0o40577, Kind::Y, "VY"),
+    (0o40600, 0o40777, Kind::C, "VC"),
+    (0o41000, 0o41077, Kind::S, "VS"),
+    (0o41100, 0o41117, Kind::T, "VT"),
+    (0o41140, 0o41157, Kind::Ct, "VCT"),
+    (0o41200, 0o41237, Kind::Sp, "VSP"),
+];
+
+/// The last V address that exists (VSP's last word).
+pub const LAST_MAPPED: u32 = 0o41237;
+
+/// The element kind and first element (its octal number's value; SP numbers for VSP) of a
+/// bit-mapped word; None for a data word or an address that does not exist.
+pub fn mapped(a: u32) -> Option<(Kind, u32)> {
+    MAPPED
+        .iter()
+        .find(|(first, last, ..)| (*first..=*last).contains(&a))
+        .map(|&(first, _, kind, _)| (kind, (a - first) * 16))
+}
+
+/// Whether a program may write this bit-mapped word (VY, VC, VS); data words always.
+pub fn writable_word(a: u32) -> bool {
+    !matches!(mapped(a), Some((Kind::X | Kind::T | Kind::Ct | Kind::Sp, _)))
 }
 
 /// The V address of timer or counter `n`'s current value (TAn = Vn, CTAn = V1000 + n).
@@ -265,6 +303,8 @@ pub enum Op {
     CmpD(D),
     Timer(TimerKind, u32, Preset),
     Counter(CounterKind, u32, Preset),
+    /// MOV, SETBIT, RSTBIT (spec §6.6): count from L1, start address from ACC.
+    Table(Table, u32),
     // Program control (spec §6.8, §6.10). Targets are instruction indices, resolved by the
     // assembler once every label, subroutine and stage is known.
     /// Continue at the LBL with this index.

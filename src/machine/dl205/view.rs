@@ -3,7 +3,7 @@
 use std::any::Any;
 use std::fmt::Write;
 
-use super::program::{Bit, Kind, SPECIAL, bit_name};
+use super::program::{Bit, Kind, MAPPED, SPECIAL, bit_name, mapped};
 use super::{Dl205, LEVELS, V_WORDS};
 use crate::machine::{
     BitInfo, Format, Loc, LocInfo, Machine, MachineView, Pos, RunState, SpaceInfo,
@@ -19,6 +19,8 @@ pub const SP: u8 = 5;
 pub const S: u8 = 6;
 pub const T: u8 = 7;
 pub const CT: u8 = 8;
+/// The bit-mapped words V40400–V41237, numbered densely (the regions have gaps between them).
+pub const VM: u8 = 9;
 
 pub(super) const SP_DESCRIPTIONS: [&str; 20] = [
     "on during the first scan",
@@ -61,6 +63,55 @@ pub fn bit_loc(b: Bit) -> Loc {
     Loc::new(kind_space(b.kind), b.n)
 }
 
+/// The location of V address `a`: a data word, or a bit-mapped word in [`VM`].
+pub fn v_loc(a: u32) -> Loc {
+    if (a as usize) < V_WORDS {
+        return Loc::new(V, a);
+    }
+    let mut dense = 0;
+    for &(first, last, ..) in &MAPPED {
+        if (first..=last).contains(&a) {
+            return Loc::new(VM, dense + a - first);
+        }
+        dense += last - first + 1;
+    }
+    // Not an address (the assembler lets none through): a location that does not exist.
+    Loc::new(VM, u32::MAX)
+}
+
+/// The V address of bit-mapped word `i` of [`VM`].
+pub fn mapped_address(i: u32) -> Option<u32> {
+    let mut dense = 0;
+    for &(first, last, ..) in &MAPPED {
+        let len = last - first + 1;
+        if i < dense + len {
+            return Some(first + i - dense);
+        }
+        dense += len;
+    }
+    None
+}
+
+const MAPPED_WORDS: u32 = {
+    let mut n = 0;
+    let mut i = 0;
+    while i < MAPPED.len() {
+        n += MAPPED[i].1 - MAPPED[i].0 + 1;
+        i += 1;
+    }
+    n
+};
+
+/// A V word an instruction wrote, and for a bit-mapped word its sixteen elements too.
+pub fn word_writes(a: u32, f: &mut impl FnMut(Loc)) {
+    f(v_loc(a));
+    if let Some((kind, first)) = mapped(a)
+        && kind != Kind::Sp
+    {
+        (first..first + 16).for_each(|n| f(Loc::new(kind_space(kind), n)));
+    }
+}
+
 /// `V1400`, `X17`, `SP53`, `ACC`, `L3` → its location.
 pub fn parse_name(name: &str) -> Option<Loc> {
     let upper = name.trim().to_ascii_uppercase();
@@ -77,8 +128,12 @@ pub fn parse_name(name: &str) -> Option<Loc> {
         return (1..=LEVELS as u32).contains(&n).then(|| Loc::new(ACC, n));
     }
     let n = u32::from_str_radix(digits, 8).ok()?;
+    if let Some(&(first, last, ..)) = MAPPED.iter().find(|m| m.3 == letters) {
+        let a = first + n / 16;
+        return (n % 0o20 == 0 && a <= last).then_some(v_loc(a));
+    }
     match letters.as_str() {
-        "V" if (n as usize) < V_WORDS => Some(Loc::new(V, n)),
+        "V" if (n as usize) < V_WORDS || mapped(n).is_some() => Some(v_loc(n)),
         "X" if n < Kind::X.count() => Some(Loc::new(X, n)),
         "Y" if n < Kind::Y.count() => Some(Loc::new(Y, n)),
         "C" if n < Kind::C.count() => Some(Loc::new(C, n)),
@@ -119,10 +174,30 @@ impl Dl205 {
             Op::ToBcd | Op::LogicD(..) | Op::LogicS(..) => &[SP63, SP70],
             Op::IncB(_) | Op::DecB(_) | Op::LogicV(..) => &[SP63],
             Op::Inv => &[SP63, SP70],
+            Op::Table(..) if self.raised_error && self.sp[SP75] => &[SP75],
+            Op::Table(..) => &[SP53, SP75],
             Op::Cmp(_) | Op::CmpD(_) => &[SP60, SP61, SP62],
             // Boxes only ever set SP75 (spec §6.9).
             Op::Timer(..) | Op::Counter(..) if self.raised_error => &[SP75],
             _ => &[],
+        }
+    }
+
+    /// The V words the last MOV/SETBIT/RSTBIT wrote (none when it met an error).
+    fn table_writes(&self, f: &mut impl FnMut(Loc)) {
+        use super::program::{Op, Table};
+        let Some(ins) = self.last.and_then(|i| self.program.instrs.get(i as usize)) else {
+            return;
+        };
+        let (Op::Table(kind, operand), Some((start, count))) = (ins.op, self.table_span()) else {
+            return;
+        };
+        if self.raised_error {
+            return;
+        }
+        match kind {
+            Table::Mov => (operand..operand + count).for_each(|a| f(v_loc(a))),
+            Table::SetBit | Table::RstBit => f(v_loc(start + operand / 16)),
         }
     }
 
@@ -150,11 +225,12 @@ impl Dl205 {
             }
         }
         match ins.op {
-            Op::OutV(a) | Op::IncB(a) | Op::DecB(a) if self.last_ran => f(Loc::new(V, a)),
+            Op::OutV(a) | Op::IncB(a) | Op::DecB(a) if self.last_ran => word_writes(a, &mut f),
             Op::OutD(a) if self.last_ran => {
-                f(Loc::new(V, a));
-                f(Loc::new(V, a + 1));
+                word_writes(a, &mut f);
+                word_writes(a + 1, &mut f);
             }
+            Op::Table(..) if self.last_ran => self.table_writes(&mut f),
             Op::Coil(b) | Op::Pd(b, _) | Op::OrOut(b, _) => f(bit_loc(b)),
             Op::Timer(..) | Op::Counter(..) => {
                 // Value word(s) and status; SP75 came with the flags above.
@@ -256,6 +332,12 @@ impl MachineView for Dl205 {
                 kind: SpaceKind::Bits,
                 len: Kind::Ct.count(),
             },
+            SpaceInfo {
+                name: "VM",
+                title: "Bit-mapped words",
+                kind: SpaceKind::Registers,
+                len: MAPPED_WORDS,
+            },
         ]
     }
     fn info(&self, loc: Loc) -> Option<LocInfo> {
@@ -288,6 +370,21 @@ impl MachineView for Dl205 {
                 format: Some(Format::Bcd),
                 ..LocInfo::word(format!("V{i:o}"), 16, false)
             }),
+            // A bit-mapped word reads as its 16 elements: binary.
+            VM => mapped_address(i).and_then(|a| Some((a, mapped(a)?))).map(|(a, (kind, _))| LocInfo {
+                description: match kind {
+                    Kind::X => "bit-mapped inputs (VX, read-only)",
+                    Kind::Y => "bit-mapped outputs (VY)",
+                    Kind::C => "bit-mapped control relays (VC)",
+                    Kind::S => "bit-mapped stage bits (VS)",
+                    Kind::T => "bit-mapped timer status (VT, read-only)",
+                    Kind::Ct => "bit-mapped counter status (VCT, read-only)",
+                    Kind::Sp => "bit-mapped special relays (VSP, read-only)",
+                },
+                format: Some(Format::Binary),
+                editable: super::program::writable_word(a),
+                ..LocInfo::word(format!("V{a:o}"), 16, false)
+            }),
             X if i < Kind::X.count() => Some(bit(format!("X{i:o}"), "input", true)),
             Y if i < Kind::Y.count() => Some(bit(format!("Y{i:o}"), "output", true)),
             C if i < Kind::C.count() => Some(bit(format!("C{i:o}"), "control relay", true)),
@@ -308,7 +405,8 @@ impl MachineView for Dl205 {
         match loc.space {
             ACC if i == 0 => u64::from(self.acc),
             ACC => self.stack.get(i - 1).map_or(0, |&v| u64::from(v)),
-            V => self.v.get(i).map_or(0, |&v| u64::from(v)),
+            V => u64::from(self.word(i as u32)),
+            VM => mapped_address(i as u32).map_or(0, |a| u64::from(self.word(a))),
             X => u64::from(self.x.get(i).copied().unwrap_or(false)),
             Y => u64::from(self.y.get(i).copied().unwrap_or(false)),
             C => u64::from(self.c.get(i).copied().unwrap_or(false)),
@@ -324,7 +422,11 @@ impl MachineView for Dl205 {
         let i = loc.index as usize;
         let on = value != 0;
         match loc.space {
-            V => self.v[i] = value as u16,
+            V => self.set_word(i as u32, value as u16),
+            VM => match mapped_address(i as u32) {
+                Some(a) => self.set_word(a, value as u16),
+                None => return Err(WriteError::NoSuchLocation),
+            },
             X => self.x[i] = on,
             Y => self.y[i] = on,
             C => self.c[i] = on,
@@ -338,7 +440,7 @@ impl MachineView for Dl205 {
     }
     fn used(&self) -> Vec<Loc> {
         let mut out: Vec<Loc> = (0..=LEVELS as u32).map(|i| Loc::new(ACC, i)).collect();
-        out.extend(self.program.used_v.iter().map(|&n| Loc::new(V, n)));
+        out.extend(self.program.used_v.iter().map(|&n| v_loc(n)));
         out.extend(self.program.used_bits.iter().map(|&b| bit_loc(b)));
         out.extend((0..SPECIAL.len() as u32).map(|i| Loc::new(SP, i)));
         out
