@@ -312,3 +312,40 @@ fn bit_mapped_words_read_and_write_their_elements() {
     assert!(e("STR SP1\nLD VX7\nEND")[0].contains("multiple of 20"));
     assert!(e("STR SP1\nLD VX1760\nLD VT360\nLD VCT360\nLD VSP760\nOUTD VS1740\nEND").is_empty());
 }
+
+/// Spec §1: other controllers' notation is named, with what to write instead.
+#[test]
+fn other_controllers_notation_is_named() {
+    for (src, want) in [
+        (
+            "STR 0125\nOUT Y0\nEND",
+            "1:5: error: '0125' is a bare element number in DL305/handheld notation",
+        ),
+        (
+            "0001 STR X0\nOUT Y0\nEND",
+            "1:1: error: '0001' is a line number in DL305/handheld notation",
+        ),
+        (
+            "STR X0\nTMR T1 003.0\nEND",
+            "2:8: error: '003.0' is a decimal preset in DL305/handheld notation",
+        ),
+        (
+            "STR X0\nOR NOT X1\nOUT Y0\nEND",
+            "2:1: error: OR NOT: DirectSOFT writes ORN",
+        ),
+        (
+            "LD X1\nOUT Y0\nEND",
+            "1:1: error: LD loads the accumulator: a contact on X1 is STR X1",
+        ),
+        ("LOD X0\nOUT Y0\nEND", "LOD is IDEC notation"),
+        ("STR X0\nTIM T1 K5\nEND", "TIM is Omron notation"),
+        ("STR X0\nTON T1 K5\nEND", "TON is IEC 61131-3 notation"),
+        ("XIC X0\nOTE Y0\nEND", "XIC is Allen-Bradley notation"),
+    ] {
+        let e = errors(src);
+        assert!(
+            e.iter().any(|m| m.starts_with(want) || m.contains(want)),
+            "{src}\n{e:#?}\nshould say {want}"
+        );
+    }
+}

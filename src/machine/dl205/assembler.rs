@@ -231,6 +231,50 @@ fn count(t: &Tok) -> Result<u8, Error> {
     }
 }
 
+/// Other controllers' notation, named with what DirectSOFT writes instead (spec §1): line
+/// numbers and bare element numbers of DL305/handheld listings, `OR NOT`, `LD X1` for a
+/// contact, and the mnemonics of IDEC, Omron, IEC 61131-3 and Allen-Bradley.
+fn other_notation(m: &str, ts: &[Tok]) -> Option<Error> {
+    let first = &ts[0];
+    let args = &ts[1..];
+    let digits = |t: &Tok| !t.text.is_empty() && t.text.chars().all(|c| c.is_ascii_digit());
+    let message = if digits(first) {
+        format!("'{}' is a line number in DL305/handheld notation: DirectSOFT mnemonic text has none, start the line with the mnemonic", first.text)
+    } else if let Some(bare) = args.iter().find(|t| digits(t) && t.text.len() >= 3) {
+        return Some(Error {
+            col: bare.col,
+            message: format!("'{}' is a bare element number in DL305/handheld notation: name the element (X{}, Y{}, C{} …)", bare.text, bare.text.trim_start_matches('0'), bare.text.trim_start_matches('0'), bare.text.trim_start_matches('0')),
+        });
+    } else if let Some(preset) = args.iter().find(|t| t.text.contains('.') && t.text.replace('.', "").chars().all(|c| c.is_ascii_digit())) {
+        return Some(Error {
+            col: preset.col,
+            message: format!("'{}' is a decimal preset in DL305/handheld notation: write K and the digits, e.g. K30 for 3.0 s", preset.text),
+        });
+    } else if matches!(m, "OR" | "AND" | "STR") && args.first().is_some_and(|t| t.text.eq_ignore_ascii_case("NOT")) {
+        format!("{m} NOT: DirectSOFT writes {m}N")
+    } else if m == "LD" && args.first().is_some_and(|t| {
+        let (letters, _) = split(t);
+        matches!(letters.as_str(), "X" | "Y" | "C" | "S" | "T" | "CT" | "SP")
+    }) {
+        format!("LD loads the accumulator: a contact on {} is STR {}", args[0].text, args[0].text)
+    } else {
+        let (origin, instead) = match m {
+            "LOD" | "LODN" => ("IDEC", "STR / STRN"),
+            "TIM" | "TIMH" | "CNTR" => ("Omron", "TMR / CNT"),
+            "TON" | "TOF" | "TP" => ("IEC 61131-3", "TMR"),
+            "CTU" | "CTD" | "CTUD" => ("IEC 61131-3", "CNT / UDC"),
+            "XIC" | "XIO" => ("Allen-Bradley", "STR / STRN"),
+            "OTE" | "OTL" | "OTU" => ("Allen-Bradley", "OUT / SET / RST"),
+            _ => return None,
+        };
+        format!("{m} is {origin} notation: DirectSOFT writes {instead}")
+    };
+    Some(Error {
+        col: first.col,
+        message,
+    })
+}
+
 /// A label or subroutine number: K0–KFFFF (hex digits, as DirectSOFT writes them).
 fn label(t: &Tok) -> Result<u16, Error> {
     match k_hex(t) {
@@ -252,6 +296,9 @@ fn instruction(ts: &[Tok], program: &mut Program, suggester: &Suggester) -> Resu
     let first = &ts[0];
     let m = first.text.to_ascii_uppercase();
     let args = &ts[1..];
+    if let Some(e) = other_notation(&m, ts) {
+        return Err(e);
+    }
     if !MNEMONICS.contains(&m.as_str()) {
         if UNSUPPORTED.contains(&m.as_str()) {
             return err(first.col, format!("{m} is a DL205 instruction not supported by servoscope yet"));
