@@ -349,3 +349,48 @@ fn other_controllers_notation_is_named() {
         );
     }
 }
+
+/// Issue #23 item 4: code a scan jumped over or did not reach (an inactive stage) is marked
+/// for the code view; an output in a master-line zone that is off is skipped.
+#[test]
+fn line_power_marks_code_the_scan_did_not_run() {
+    use servoscope::machine::LinePower;
+    let mut m = plc("STR X0\nGOTO K1\nSTR SP1\nOUT Y0\nLBL K1\nSTR SP1\nOUT Y1\nEND");
+    set(&mut m, "X0", 1);
+    scan(&mut m);
+    let power = m.line_power();
+    let at = |line: usize| power.iter().find(|(l, _)| *l == line).map(|(_, s)| *s);
+    assert_eq!(
+        (at(3), at(4)),
+        (Some(LinePower::NotRun), Some(LinePower::NotRun))
+    );
+    assert_eq!((at(2), at(7)), (Some(LinePower::On), Some(LinePower::On)));
+    // Mid-scan: after the GOTO ran, the jumped-over lines are known; later ones are not yet.
+    let mut m = plc("STR X0\nGOTO K1\nSTR SP1\nOUT Y0\nLBL K1\nSTR SP1\nOUT Y1\nEND");
+    set(&mut m, "X0", 1);
+    m.run_observed(
+        servoscope::machine::Pos { tick: 0, step: 3 },
+        |_| false,
+        |_| {},
+    );
+    let power = m.line_power();
+    let at = |line: usize| power.iter().find(|(l, _)| *l == line).map(|(_, s)| *s);
+    assert_eq!((at(3), at(6)), (Some(LinePower::NotRun), None));
+    let mut m = plc("STR X0\nMLS K1\nSTR SP1\nOUT Y0\nMLR K0\nSTR SP1\nOUT Y1\nEND");
+    scan(&mut m);
+    let power = m.line_power();
+    let at = |line: usize| power.iter().find(|(l, _)| *l == line).map(|(_, s)| *s);
+    assert_eq!(
+        (at(4), at(7)),
+        (Some(LinePower::Off), Some(LinePower::On)),
+        "OUT runs: it writes 0"
+    );
+    let mut m = plc("ISG S0\nSTR SP1\nOUT Y0\nSG S1\nSTR SP1\nOUT Y1\nEND");
+    scan(&mut m);
+    let power = m.line_power();
+    let at = |line: usize| power.iter().find(|(l, _)| *l == line).map(|(_, s)| *s);
+    assert_eq!(
+        (at(5), at(6)),
+        (Some(LinePower::NotRun), Some(LinePower::NotRun))
+    );
+}

@@ -1362,6 +1362,42 @@ fn the_timers_panel_shows_time_and_done() {
     assert_eq!(h.state().code.cursor_line, Some(7));
 }
 
+/// Issue #23: the Stages panel lists every SG/ISG with its state and the instruction that
+/// last changed it; clicking that goes back to just after it.
+#[test]
+fn the_stages_panel_follows_the_stages() {
+    let dl205 = servoscope::machine::registry::by_name("dl205").expect("registered");
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.load_program_as(
+        dl205,
+        "push_on_off.dl205",
+        include_str!("../assets/examples/push_on_off.dl205"),
+    );
+    let mut h = harness(app);
+    h.get_by_label("Stages").click();
+    h.run_steps(2);
+    h.get_by_label("S0 active");
+    h.get_by_label("S1 off");
+    h.state_mut().debugger.goto_tick(2);
+    h.run_steps(2);
+    assert_eq!(h.state().debugger.machine().ticks(), 2);
+    let x0 = h.state().debugger.machine().find("X0").expect("X0");
+    h.state_mut().debugger.set_value(x0, 1).expect("an input");
+    h.state_mut().debugger.goto_tick(3);
+    h.run_steps(2);
+    h.get_by_label("S1 active");
+    h.get_by_label("S0 clean-up pending");
+    // Both stages were changed by the JMP: S0's row comes first.
+    h.get_all_by_label_contains("changed by line 8 at scan 2")
+        .next()
+        .expect("S0's change")
+        .click();
+    h.run_steps(2);
+    let m = h.state().debugger.machine();
+    assert_eq!(m.ticks(), 2, "back in the scan of the jump");
+    assert_eq!(m.read(m.find("S1").unwrap()), 1);
+}
+
 #[test]
 fn a_session_with_a_breakpoint_past_the_end_opens_and_says_what_it_dropped() {
     let dir = std::env::temp_dir().join(format!("servoscope-gui-far-{}", std::process::id()));

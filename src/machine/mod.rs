@@ -200,6 +200,9 @@ pub enum LinePower {
     Off,
     /// An output on an unpowered rung: it did nothing this scan.
     Skipped,
+    /// Not executed in this scan at all: jumped over, an inactive stage, a subroutine not
+    /// called.
+    NotRun,
 }
 
 /// A fault as a user reads it.

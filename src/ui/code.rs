@@ -509,11 +509,19 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                 // whole pixels, so a computed `line × height` drifts in long programs).
                 let rows = LineRows::of(&output.galley, output.galley_pos, text_left);
                 // Outputs skipped on an unpowered rung are greyed over.
+                // Code the scan did not run at all (jumped over, an inactive stage) more so.
                 let skipped: Vec<(Option<usize>, egui::Color32)> = machine
                     .line_power()
                     .into_iter()
-                    .filter(|(_, s)| *s == crate::machine::LinePower::Skipped)
-                    .map(|(l, _)| (Some(l), p.dim.gamma_multiply(0.25)))
+                    .filter_map(|(l, s)| match s {
+                        crate::machine::LinePower::Skipped => {
+                            Some((Some(l), p.dim.gamma_multiply(0.25)))
+                        }
+                        crate::machine::LinePower::NotRun => {
+                            Some((Some(l), p.dim.gamma_multiply(0.45)))
+                        }
+                        _ => None,
+                    })
                     .collect();
                 let fills: Vec<egui::Shape> =
                     [(pc_line, p.current_line), (fault_line, p.fault_line)]
@@ -927,6 +935,7 @@ fn gutter_ui(
             let colour = match state {
                 crate::machine::LinePower::On => p.bit_on,
                 crate::machine::LinePower::Off | crate::machine::LinePower::Skipped => p.dim,
+                crate::machine::LinePower::NotRun => egui::Color32::TRANSPARENT,
             };
             let bar = Rect::from_min_max(
                 pos2(row.right() - 3.0, row.top() + 2.0),

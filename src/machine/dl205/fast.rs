@@ -198,8 +198,18 @@ impl Dl205 {
                 self.output(op);
             }
         }
+        // As the executor: contacts leave the rung's power, outputs the power they acted on.
+        let contact = matches!(
+            op,
+            Flat::Str(_) | Flat::And(_) | Flat::Or(_) | Flat::AndStr | Flat::OrStr | Flat::Not | Flat::Nop
+        );
+        let after = if contact {
+            self.bstack.last().copied().unwrap_or(false)
+        } else {
+            power
+        };
         if let Some(p) = self.power.get_mut(index) {
-            *p = Some(self.bstack.last().copied().unwrap_or(false));
+            *p = Some(after);
         }
     }
 

@@ -72,6 +72,14 @@ pub struct Frame {
     pub loop_state: Option<Loop>,
 }
 
+/// Which instruction last changed a stage bit, and the position just after it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StageChange {
+    pub stage: u32,
+    pub line: usize,
+    pub at: crate::machine::Pos,
+}
+
 /// Calls may nest 8 deep (checked at assembly: spec §2).
 pub const CALL_DEPTH: usize = 8;
 
@@ -114,6 +122,8 @@ pub struct Dl205 {
     pub calls: Vec<Frame>,
     /// Each stage's clean-up mark: it ran since it last turned off (spec §6.10).
     pub stage_marks: Vec<bool>,
+    /// The last change of each stage bit the program changed.
+    pub stage_changes: Vec<StageChange>,
     pub acc: u32,
     pub stack: [u32; LEVELS],
     pub depth: u8,
@@ -197,6 +207,7 @@ impl Dl205 {
             loop_state: None,
             calls: Vec::new(),
             stage_marks: vec![false; Kind::S.count() as usize],
+            stage_changes: Vec::new(),
             acc: 0,
             stack: [0; LEVELS],
             depth: 0,
@@ -254,7 +265,12 @@ impl Dl205 {
         let slot = match b.kind {
             Kind::Y => self.y.get_mut(i),
             Kind::C => self.c.get_mut(i),
-            Kind::S => self.s.get_mut(i),
+            Kind::S => {
+                if self.s.get(i).is_some_and(|&was| was != on) {
+                    self.note_stage_change(b.n);
+                }
+                self.s.get_mut(i)
+            }
             // RST of a timer or counter clears its box (see `reset_box`).
             Kind::T => self.t.get_mut(i),
             Kind::Ct => self.ct.get_mut(i),
@@ -672,7 +688,12 @@ impl Dl205 {
                 self.output(op);
             }
         }
-        self.power[index] = Some(self.bstack.last().copied().unwrap_or(false));
+        // Contacts: the rung's power after them; outputs: the power they acted on.
+        self.power[index] = Some(if op.is_output() {
+            power
+        } else {
+            self.bstack.last().copied().unwrap_or(false)
+        });
         self.last = Some(index as u32);
         self.steps += 1;
         self.step += 1;
@@ -759,11 +780,23 @@ impl Dl205 {
 
     /// JMP: the enclosing stage off, the target on.
     fn jump_stage(&mut self, own: u32, to: u32) {
-        if let Some(s) = self.s.get_mut(own as usize) {
-            *s = false;
-        }
-        if let Some(s) = self.s.get_mut(to as usize) {
-            *s = true;
+        self.set_bit(Bit { kind: Kind::S, n: own }, false);
+        self.set_bit(Bit { kind: Kind::S, n: to }, true);
+    }
+
+    /// Remember which instruction last changed stage bit `n`, and when (the Stages panel).
+    fn note_stage_change(&mut self, n: u32) {
+        let change = StageChange {
+            stage: n,
+            line: self.pc_line_now(),
+            at: crate::machine::Pos {
+                tick: self.tick,
+                step: self.step + 1,
+            },
+        };
+        match self.stage_changes.iter_mut().find(|c| c.stage == n) {
+            Some(c) => *c = change,
+            None => self.stage_changes.push(change),
         }
     }
 

@@ -17,6 +17,7 @@ pub fn panels() -> Vec<Box<dyn DialectPanel>> {
         Box::new(crate::machine::plc::panel::BoxesPanel {
             rows: |debugger| debugger.machine_as::<Dl205>().map(Dl205::boxes),
         }),
+        Box::new(StagesPanel),
     ]
 }
 
@@ -193,6 +194,108 @@ impl DialectPanel for RungPanel {
                     "boolean stack: {}",
                     if stack.is_empty() { "empty".into() } else { stack.join(" ") }
                 ));
+            });
+    }
+}
+
+/// Every SG/ISG in program order: active, clean-up pending or off, and which instruction last
+/// changed it and when (click to go there).
+pub struct StagesPanel;
+
+impl DialectPanel for StagesPanel {
+    fn title(&self) -> &'static str {
+        "Stages"
+    }
+    fn has_content(&self, debugger: &Debugger) -> bool {
+        debugger.machine_as::<Dl205>().is_some_and(|m| {
+            m.program
+                .instrs
+                .iter()
+                .any(|i| matches!(i.op, Op::Sg { .. }))
+        })
+    }
+    fn show(&mut self, ui: &mut egui::Ui, debugger: &Debugger, _: f32, out: &mut Vec<Command>) {
+        let Some(m) = debugger.machine_as::<Dl205>() else {
+            return;
+        };
+        let p = palette(ui.visuals().dark_mode);
+        let ticks = debugger.dialect().vocabulary.tick;
+        egui::ScrollArea::both()
+            .id_salt("dl205_stages")
+            .auto_shrink([false, false])
+            .show(ui, |ui| {
+                egui::Grid::new("dl205_stages_grid")
+                    .num_columns(3)
+                    .spacing([10.0, 4.0])
+                    .striped(true)
+                    .show(ui, |ui| {
+                        for ins in &m.program.instrs {
+                            let Op::Sg { stage, initial, .. } = ins.op else {
+                                continue;
+                            };
+                            let name = format!("S{stage:o}");
+                            let on = m.s.get(stage as usize).copied().unwrap_or(false);
+                            let pending = !on
+                                && m.stage_marks.get(stage as usize).copied().unwrap_or(false);
+                            let title = format!("{} {name}", if initial { "ISG" } else { "SG" });
+                            if ui
+                                .add(
+                                    egui::Button::new(RichText::new(&title).monospace())
+                                        .frame(false),
+                                )
+                                .on_hover_text(format!("Line {}: click to show it", ins.line))
+                                .clicked()
+                            {
+                                out.push(Command::ShowLine(ins.line));
+                            }
+                            let (state, colour) = if on {
+                                ("active", p.bit_on)
+                            } else if pending {
+                                ("clean-up pending", p.written)
+                            } else {
+                                ("off", p.dim)
+                            };
+                            ui.label(RichText::new(state).color(colour))
+                                .on_hover_text(match state {
+                                    "active" => "The stage runs every scan",
+                                    "off" => "The stage is skipped",
+                                    _ => "Turned off: the next scan runs it once with no power, so its outputs go off and its timers reset",
+                                })
+                                .widget_info(|| {
+                                    egui::WidgetInfo::labeled(
+                                        egui::Role::Label,
+                                        true,
+                                        format!("{name} {state}"),
+                                    )
+                                });
+                            match m.stage_changes.iter().find(|c| c.stage == stage) {
+                                Some(change) => {
+                                    let text = format!(
+                                        "changed by line {} at {ticks} {}",
+                                        change.line, change.at.tick
+                                    );
+                                    if ui
+                                        .link(&text)
+                                        .on_hover_text("Go back to just after that instruction")
+                                        .clicked()
+                                    {
+                                        out.push(Command::GoTo(change.at));
+                                    }
+                                }
+                                None => {
+                                    ui.label(
+                                        RichText::new(if initial {
+                                            "on from the start (ISG)"
+                                        } else {
+                                            "not changed yet"
+                                        })
+                                        .color(p.dim),
+                                    );
+                                }
+                            }
+                            ui.end_row();
+                        }
+                    });
             });
     }
 }

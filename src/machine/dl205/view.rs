@@ -474,23 +474,35 @@ impl MachineView for Dl205 {
     }
     fn line_power(&self) -> Vec<(usize, crate::machine::LinePower)> {
         use crate::machine::LinePower;
+        // What this scan has passed: in the main program execution only moves forward (FOR
+        // loops go back inside what already ran), so an instruction before the frontier that
+        // did not run was jumped over. Between scans the whole last scan is known.
+        let scan_over = self.step == 0 && self.tick > 0;
+        let frontier = self.calls.first().map_or(self.pc, |f| f.ret - 1) as usize;
+        let end = self
+            .program
+            .instrs
+            .iter()
+            .position(|i| i.op == super::program::Op::End)
+            .unwrap_or(usize::MAX);
         self.program
             .instrs
             .iter()
             .zip(&self.power)
-            .filter_map(|(ins, power)| {
-                let on = (*power)?;
-                let skipped = !on && ins.op.is_output() && !ins.op.always_runs();
-                Some((
-                    ins.line,
-                    if skipped {
+            .enumerate()
+            .filter_map(|(i, (ins, power))| {
+                let state = match *power {
+                    None if scan_over || (i < frontier && i <= end && self.step > 0) => {
+                        LinePower::NotRun
+                    }
+                    None => return None,
+                    Some(true) => LinePower::On,
+                    Some(false) if ins.op.is_output() && !ins.op.always_runs() => {
                         LinePower::Skipped
-                    } else if on {
-                        LinePower::On
-                    } else {
-                        LinePower::Off
-                    },
-                ))
+                    }
+                    Some(false) => LinePower::Off,
+                };
+                Some((ins.line, state))
             })
             .collect()
     }
