@@ -151,8 +151,6 @@ impl Dl205 {
             Flat::Not => self.invert_top(),
             Flat::Always(op) => {
                 self.rung_has_output = true;
-                // An error flag remembers the line it was raised on.
-                self.pc = index as u32;
                 self.always(op, power);
             }
             Flat::Coil(b) => {
@@ -193,8 +191,6 @@ impl Dl205 {
             }
             Flat::Output(op) => {
                 self.rung_has_output = true;
-                // An error flag remembers the line it was raised on.
-                self.pc = index as u32;
                 self.output(op);
             }
         }
@@ -239,6 +235,9 @@ impl Dl205 {
                 }
                 index = self.pc as usize;
             } else {
+                // Where the executor would be: error flags and stage changes remember it.
+                self.pc = index as u32;
+                self.step = executed as u32;
                 self.run_flat(index, op);
                 executed += 1;
                 index += 1;
