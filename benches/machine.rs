@@ -15,7 +15,7 @@ const COMMANDS: u64 = 1_000_000;
 
 #[path = "common/programs.rs"]
 mod programs;
-use programs::{ARITHMETIC, TML_ARITHMETIC, dl205_boxes_program, dl205_program, opennet_program};
+use programs::{ARITHMETIC, TML_ARITHMETIC, dl205_ladder_program, dl205_program, opennet_program};
 
 const QUEUE: &str = "\
       CLD Q_INIT, 11, 40, 16
@@ -129,15 +129,18 @@ fn benches(c: &mut Criterion) {
             black_box(m.acc)
         })
     });
-    let boxes = servoscope::machine::dl205::dialect::machine(&dl205_boxes_program())
+    let boxes = servoscope::machine::dl205::dialect::machine(&dl205_ladder_program())
         .expect("bench program assembles");
-    group.bench_function("100-instruction timers & counters scan (scans)", |b| {
-        b.iter(|| {
-            let mut m = boxes.clone();
-            m.run_bare(Pos::at_tick(SCANS));
-            black_box(m.acc)
-        })
-    });
+    group.bench_function(
+        "100-instruction ladder scan: timers, counters, stages, a call (scans)",
+        |b| {
+            b.iter(|| {
+                let mut m = boxes.clone();
+                m.run_bare(Pos::at_tick(SCANS));
+                black_box(m.acc)
+            })
+        },
+    );
     group.finish();
 }
 

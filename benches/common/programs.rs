@@ -60,10 +60,11 @@ pub fn dl205_program() -> String {
     src
 }
 
-/// A 100-instruction DL205 scan of what ladder programs are made of: 8 timers (TMR, TMRA), 8
-/// counters (CNT, UDC) with their legs, edge contacts and PD, contacts on the status bits and
-/// a little BCD math on the current values.
-pub fn dl205_boxes_program() -> String {
+/// A 100-instruction DL205 program of what ladder programs are made of: 8 timers (TMR, TMRA),
+/// 8 counters (CNT, UDC) with their legs, edge contacts and PD, contacts on the status bits,
+/// two stages taking turns (one runs, one is skipped, each scan), a subroutine call and a
+/// little BCD math on the current values.
+pub fn dl205_ladder_program() -> String {
     let mut src = String::new();
     for n in 0..4 {
         src.push_str(&format!("STR SP1\nTMR T{n} K30\n"));
@@ -78,6 +79,7 @@ pub fn dl205_boxes_program() -> String {
         src.push_str(&format!("STR T{n}\nAND CT{n}\nOUT Y{n}\n"));
         src.push_str(&format!("STRPD T{n}\nORND CT{n}\nPD C{n}\n"));
     }
+    src.push_str("STR SP1\nGTS K1\n");
     let math = [
         "STR SP1",
         "LD V0",
@@ -88,10 +90,15 @@ pub fn dl205_boxes_program() -> String {
         "STR SP61",
         "OUT C20",
     ];
+    let stages =
+        "ISG S0\nSTR SP1\nOUT C30\nSTR SP7\nJMP S1\nSG S1\nSTR SP1\nOUT C31\nSTRN SP7\nJMP S0\n";
+    let subroutine = "SBR K1\nSTR SP1\nINCB V2100\nRT\n";
+    // Math up to the stages, END, and the subroutine: 100 instructions.
+    let fixed = stages.lines().count() + 1 + subroutine.lines().count();
     let mut count = src.lines().count();
     'fill: loop {
         for i in math {
-            if count == 99 {
+            if count + fixed == 100 {
                 break 'fill;
             }
             src.push_str(i);
@@ -99,7 +106,9 @@ pub fn dl205_boxes_program() -> String {
             count += 1;
         }
     }
+    src.push_str(stages);
     src.push_str("END\n");
+    src.push_str(subroutine);
     src
 }
 
