@@ -2,7 +2,6 @@
 //! program that stopped assembling would only show when someone ran it).
 
 #[path = "../benches/common/programs.rs"]
-#[allow(dead_code)]
 mod programs;
 
 use servoscope::machine::dl205::assembler::assemble;
@@ -12,8 +11,16 @@ use servoscope::machine::dl205::program::Op;
 fn the_dl205_ladder_benchmark_is_100_instructions_of_ladder() {
     let program = assemble(&programs::dl205_ladder_program()).expect("assembles");
     assert_eq!(program.instrs.len(), 100);
-    let timers = program.boxes.iter().filter(|b| b.status.kind.letter() == "T").count();
-    assert_eq!((timers, program.boxes.len() - timers), (8, 8), "8 timers, 8 counters");
+    let timers = program
+        .boxes
+        .iter()
+        .filter(|b| b.status.kind.letter() == "T")
+        .count();
+    assert_eq!(
+        (timers, program.boxes.len() - timers),
+        (8, 8),
+        "8 timers, 8 counters"
+    );
     let count = |f: fn(&Op) -> bool| program.instrs.iter().filter(|i| f(&i.op)).count();
     assert_eq!(count(|op| matches!(op, Op::Sg { .. })), 2, "two stages");
     assert_eq!(count(|op| matches!(op, Op::Gts(_))), 1, "a call");

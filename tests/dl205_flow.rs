@@ -394,3 +394,79 @@ fn line_power_marks_code_the_scan_did_not_run() {
         (Some(LinePower::NotRun), Some(LinePower::NotRun))
     );
 }
+
+/// The batch mixer: fill until the high level, mix 10.0 s, drain until empty, and the
+/// subroutine counts the batch once (V2000 in BCD) and adds 250 litres (V2002/V2003).
+#[test]
+fn the_batch_mixer_runs_a_batch_and_counts_it_once() {
+    let mut m = plc(include_str!("../assets/examples/batch_mixer.dl205"));
+    let outputs = |m: &Dl205| (get(m, "Y0"), get(m, "Y1"), get(m, "Y2"));
+    scan(&mut m);
+    assert_eq!(outputs(&m), (0, 0, 0), "idle");
+    set(&mut m, "X0", 1);
+    scan(&mut m);
+    set(&mut m, "X0", 0);
+    assert_eq!(outputs(&m), (1, 0, 0), "filling");
+    set(&mut m, "X1", 1);
+    set(&mut m, "X2", 1);
+    scan(&mut m);
+    // The jump to S2 comes after S1: S2 runs in the same scan, and its timer counts it.
+    assert_eq!(get(&m, "Y1"), 1, "mixing");
+    // 10.0 s at 10 ms scans: T0 is on in the 1000th counted scan.
+    for _ in 0..998 {
+        scan(&mut m);
+    }
+    assert_eq!((get(&m, "Y1"), get(&m, "Y2")), (1, 0), "still mixing");
+    scan(&mut m);
+    assert_eq!(get(&m, "Y2"), 1, "draining");
+    set(&mut m, "X1", 0);
+    for _ in 0..5 {
+        scan(&mut m);
+    }
+    set(&mut m, "X2", 0);
+    for _ in 0..5 {
+        scan(&mut m);
+    }
+    assert_eq!(outputs(&m), (0, 0, 0), "back to idle");
+    assert_eq!(
+        (get(&m, "V2000"), get(&m, "V2002")),
+        (0x1, 0x250),
+        "one batch, 250 litres"
+    );
+}
+
+/// Issue #23 item 4: the code view's notes: a FOR loop's turn, the call a subroutine runs in,
+/// and the edge contacts that fired this scan.
+#[test]
+fn line_notes_tell_the_turn_the_call_and_the_edges() {
+    let src = "STRPD X0\nOUT Y0\nSTR SP1\nFOR K3\nSTR SP1\nGTS K1\nNEXT\nEND\nSBR K1\nSTR SP1\nINCB V0\nRT\n";
+    let mut m = plc(src);
+    set(&mut m, "X0", 1);
+    // STRPD, OUT, STR, FOR, STR, GTS, SBR: inside the first turn's call.
+    m.run_observed(
+        servoscope::machine::Pos { tick: 0, step: 7 },
+        |_| false,
+        |_| {},
+    );
+    let notes = m.line_notes();
+    assert!(notes.contains(&(4, "turn 1 of 3".to_string())), "{notes:?}");
+    assert!(
+        notes.contains(&(9, "called from line 6 (depth 1)".to_string())),
+        "{notes:?}"
+    );
+    assert!(notes.contains(&(1, "fired".to_string())), "{notes:?}");
+    // Two turns later.
+    m.run_observed(
+        servoscope::machine::Pos {
+            tick: 0,
+            step: 7 + 2 * 6,
+        },
+        |_| false,
+        |_| {},
+    );
+    assert!(
+        m.line_notes().contains(&(4, "turn 3 of 3".to_string())),
+        "{:?}",
+        m.line_notes()
+    );
+}

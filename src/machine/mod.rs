@@ -342,6 +342,12 @@ pub trait MachineView: Send + 'static {
         Vec::new()
     }
 
+    /// Short notes the code view shows at the end of lines now (DL205: a FOR loop's turn, the
+    /// call a subroutine runs in, an edge contact that fired this scan).
+    fn line_notes(&self) -> Vec<(usize, String)> {
+        Vec::new()
+    }
+
     /// Status relays the PLC itself drives at the start of every scan (DL205's SP0 first scan
     /// and SP1 always on). Before the first scan starts the window draws them as not driven
     /// yet, as the vendor's tool shows a PLC that is not running; the state itself keeps the

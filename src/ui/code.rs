@@ -160,6 +160,32 @@ pub fn append_line(
     }
 }
 
+/// The machine's notes on lines (a loop's turn, a call, an edge that fired), right-aligned at
+/// `right` on their rows, over a backing so they read over long lines.
+pub fn line_notes(
+    ui: &egui::Ui,
+    notes: &[(usize, String)],
+    right: f32,
+    row: impl Fn(usize) -> Option<Rect>,
+    p: &Palette,
+) {
+    let font = FontId::proportional(12.0);
+    for (line, note) in notes {
+        let Some(rect) = row(*line) else { continue };
+        let galley = ui
+            .painter()
+            .layout_no_wrap(note.clone(), font.clone(), p.written);
+        let at = pos2(
+            right - 10.0 - galley.size().x,
+            rect.center().y - galley.size().y / 2.0,
+        );
+        let backing = Rect::from_min_size(at, galley.size()).expand(2.0);
+        ui.painter()
+            .rect_filled(backing, 3.0, ui.visuals().extreme_bg_color);
+        ui.painter().galley(at, galley, p.written);
+    }
+}
+
 /// Each error of `diagnostics` on the lines `visible` as a 2-px line along the bottom of its
 /// own row, inside it. (The text layout's underline straddles the row's lower edge: a line
 /// scrolled just out of view left a red stroke on the line below it, issue #22 item 13.)
@@ -536,6 +562,13 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                         .collect();
                 ui.painter().set(backgrounds, egui::Shape::Vec(fills));
                 let clip = ui.clip_rect();
+                line_notes(
+                    ui,
+                    &machine.line_notes(),
+                    clip.right(),
+                    |l| rows.rect(l),
+                    &p,
+                );
                 ui.painter().extend(error_underlines(
                     &output.galley,
                     output.galley_pos,

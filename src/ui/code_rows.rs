@@ -184,6 +184,25 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
             }
         }
     });
+    // The machine's notes (a loop's turn, a call, an edge that fired) on the rows shown.
+    let notes: Vec<(usize, String)> = machine
+        .line_notes()
+        .into_iter()
+        .filter(|(l, _)| shown.contains(l))
+        .collect();
+    if !notes.is_empty() {
+        let inner = output.inner_rect;
+        let top = inner.top() - output.state.clamped_offset().y;
+        let row = |l: usize| {
+            let y = top + (l - 1) as f32 * row_height;
+            Some(Rect::from_min_size(
+                pos2(inner.left(), y),
+                vec2(inner.width(), row_height),
+            ))
+        };
+        let ui = ui.new_child(egui::UiBuilder::new().max_rect(inner));
+        super::code::line_notes(&ui, &notes, inner.right(), row, &p);
+    }
     view.viewport_height = output.inner_rect.height();
     // Keep the line about to run in view: scroll when it moved off the rows on screen.
     let moved = pc_line.is_some() && pc_line != view.last_pc_line;

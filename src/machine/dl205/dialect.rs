@@ -42,6 +42,10 @@ pub static DIALECT: Dialect = Dialect {
             "push_on_off.dl205",
             include_str!("../../../assets/examples/push_on_off.dl205"),
         ),
+        (
+            "batch_mixer.dl205",
+            include_str!("../../../assets/examples/batch_mixer.dl205"),
+        ),
     ],
     lessons: &[(
         "dl205_subs_lesson.ron",

@@ -104,6 +104,9 @@ pub struct Dl205 {
     pub edges: Edges,
     /// Whether the last edge contact evaluated fired (for its explanation).
     pub edge_fired: bool,
+    /// The edge contacts that fired in this scan, by instruction index (the code view marks
+    /// them).
+    pub fired_this_scan: Vec<u32>,
     /// Whether the last instruction raised SP53 or SP75 (what it wrote, for the Log).
     pub raised_error: bool,
     /// A timer's or counter's current value before the last instruction ran it.
@@ -196,6 +199,7 @@ impl Dl205 {
             ct_in: vec![CounterInputs::default(); timers],
             edges,
             edge_fired: false,
+            fired_this_scan: Vec::new(),
             raised_error: false,
             box_before: 0,
             orout_marks,
@@ -403,6 +407,9 @@ impl Dl205 {
                     Edge::Rising => self.edges.rose(i as usize, now),
                     Edge::Falling => self.edges.fell(i as usize, now),
                 };
+                if self.edge_fired {
+                    self.fired_this_scan.push(self.pc);
+                }
                 self.edge_fired
             }
             Test::Compare(a, b, kind) => {
@@ -1187,6 +1194,7 @@ impl Dl205 {
         }
         self.sp[sp::SP7] = t % 2 == 1;
         self.orout_marks.iter_mut().for_each(|m| *m = false);
+        self.fired_this_scan.clear();
         self.level = 0;
         self.zones = ZONES_AT_START;
         self.stage_power = true;

@@ -4,7 +4,7 @@ use std::any::Any;
 use std::fmt::Write;
 
 use super::program::{Bit, Kind, MAPPED, SPECIAL, bit_name, mapped};
-use super::{Dl205, LEVELS, V_WORDS};
+use super::{Dl205, LEVELS, V_WORDS, bcd_value};
 use crate::machine::{
     BitInfo, Format, Loc, LocInfo, Machine, MachineView, Pos, RunState, SpaceInfo,
     SpaceKind, StopReason, WriteError,
@@ -444,6 +444,46 @@ impl MachineView for Dl205 {
         out.extend(self.program.used_bits.iter().map(|&b| bit_loc(b)));
         out.extend((0..SPECIAL.len() as u32).map(|i| Loc::new(SP, i)));
         out
+    }
+    fn line_notes(&self) -> Vec<(usize, String)> {
+        use super::program::Op;
+        let line = |i: u32| crate::machine::ScanSteps::instruction_line(self, i as usize);
+        let mut notes = Vec::new();
+        // The loop running now, and those the calls in progress were made from.
+        let loops = self
+            .calls
+            .iter()
+            .filter_map(|f| f.loop_state)
+            .chain(self.loop_state);
+        for l in loops {
+            let Some(Op::For(count, _)) = self.program.instrs.get(l.for_at as usize).map(|i| i.op)
+            else {
+                continue;
+            };
+            let total = match count {
+                super::program::W::K(k) => bcd_value(u32::from(k), 4),
+                super::program::W::V(a) => bcd_value(u32::from(self.word(a)), 4),
+            };
+            if let Some(total) = total {
+                let turn = total.saturating_sub(u64::from(l.left)) + 1;
+                notes.push((line(l.for_at), format!("turn {turn} of {total}")));
+            }
+        }
+        // The subroutine now running, and where each call came from.
+        for (depth, frame) in self.calls.iter().enumerate() {
+            let sbr = match self.program.instrs.get(frame.ret as usize - 1).map(|i| i.op) {
+                Some(Op::Gts(to)) => to,
+                _ => continue,
+            };
+            notes.push((
+                line(sbr),
+                format!("called from line {} (depth {})", line(frame.ret - 1), depth + 1),
+            ));
+        }
+        for &i in &self.fired_this_scan {
+            notes.push((line(i), "fired".into()));
+        }
+        notes
     }
     fn call_stack_lines(&self) -> Vec<usize> {
         self.calls
