@@ -1374,8 +1374,9 @@ fn the_stages_panel_follows_the_stages() {
         include_str!("../assets/examples/push_on_off.dl205"),
     );
     let mut h = harness(app);
-    h.get_by_label("Stages").click();
-    h.run_steps(2);
+    // A program with stages opens on the Stages panel.
+    let stages = servoscope::ui::layout::Pane::Dialect("Stages".into());
+    assert!(h.state().layout.is_shown(&stages));
     h.get_by_label("S0 active");
     h.get_by_label("S1 off");
     h.state_mut().debugger.goto_tick(2);

@@ -188,6 +188,8 @@ pub struct ServoscopeApp {
     pub layout: layout::Layout,
     /// The current dialect's own panels, and the dialect they were made for.
     panels: Vec<Box<dyn DialectPanel>>,
+    /// A program was just opened: bring its best panel to the front next frame.
+    focus_panel_pending: bool,
     panels_for: &'static str,
     /// Inputs of a large input space the user asked to see as switches.
     pub extra_inputs: Vec<Loc>,
@@ -257,6 +259,7 @@ impl ServoscopeApp {
             files: files::Files::default(),
             layout,
             panels,
+            focus_panel_pending: true,
             panels_for: dialect.name,
             extra_inputs: Vec::new(),
             new_input: String::new(),
@@ -393,6 +396,7 @@ impl ServoscopeApp {
         self.registers.overrides.clear();
         self.notice = None;
         self.sync_panels();
+        self.focus_panel_pending = true;
     }
 
     /// Open a program (dialect by extension) or a session (`.ron`). On failure the current
@@ -878,6 +882,18 @@ impl ServoscopeApp {
                 let pane = layout::Pane::Dialect(panel.title().to_string());
                 self.layout
                     .show_when(&pane, panel.has_content(&self.debugger));
+            }
+            // A program just opened: bring forward the panel that suits it best (the last
+            // registered that asks).
+            if std::mem::take(&mut self.focus_panel_pending)
+                && let Some(panel) = self
+                    .panels
+                    .iter()
+                    .rev()
+                    .find(|p| p.wants_focus(&self.debugger))
+            {
+                self.layout
+                    .focus(&layout::Pane::Dialect(panel.title().to_string()));
             }
             if self.layout.is_shown(&layout::Pane::Log) {
                 self.log.refresh(&mut self.debugger);

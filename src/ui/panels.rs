@@ -11,6 +11,11 @@ pub trait DialectPanel {
     fn has_content(&self, _debugger: &Debugger) -> bool {
         true
     }
+    /// Whether a newly opened program is best watched in this panel (a DL205 program with
+    /// stages: the Stages panel): its tab comes to the front.
+    fn wants_focus(&self, _debugger: &Debugger) -> bool {
+        false
+    }
     /// Draw into `ui`, which is `height` points tall; emit what the user asks for.
     fn show(&mut self, ui: &mut egui::Ui, debugger: &Debugger, height: f32, out: &mut Vec<Command>);
 }

@@ -214,6 +214,9 @@ impl DialectPanel for StagesPanel {
                 .any(|i| matches!(i.op, Op::Sg { .. }))
         })
     }
+    fn wants_focus(&self, debugger: &Debugger) -> bool {
+        self.has_content(debugger)
+    }
     fn show(&mut self, ui: &mut egui::Ui, debugger: &Debugger, _: f32, out: &mut Vec<Command>) {
         let Some(m) = debugger.machine_as::<Dl205>() else {
             return;

@@ -24,6 +24,9 @@ impl DialectPanel for BoxesPanel {
     fn has_content(&self, debugger: &Debugger) -> bool {
         (self.rows)(debugger).is_some_and(|rows| !rows.is_empty())
     }
+    fn wants_focus(&self, debugger: &Debugger) -> bool {
+        self.has_content(debugger)
+    }
     fn show(&mut self, ui: &mut egui::Ui, debugger: &Debugger, _: f32, out: &mut Vec<Command>) {
         let Some(rows) = (self.rows)(debugger) else {
             return;
