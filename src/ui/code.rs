@@ -536,19 +536,28 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                 let rows = LineRows::of(&output.galley, output.galley_pos, text_left);
                 // Outputs skipped on an unpowered rung are greyed over.
                 // Code the scan did not run at all (jumped over, an inactive stage) more so.
-                let skipped: Vec<(Option<usize>, egui::Color32)> = machine
-                    .line_power()
-                    .into_iter()
-                    .filter_map(|(l, s)| match s {
-                        crate::machine::LinePower::Skipped => {
-                            Some((Some(l), p.dim.gamma_multiply(0.25)))
-                        }
-                        crate::machine::LinePower::NotRun => {
-                            Some((Some(l), p.dim.gamma_multiply(0.45)))
-                        }
-                        _ => None,
+                let power = machine.line_power();
+                let skipped: Vec<(Option<usize>, egui::Color32)> = power
+                    .iter()
+                    .filter(|(_, s)| *s == crate::machine::LinePower::Skipped)
+                    .map(|(l, _)| (Some(*l), p.dim.gamma_multiply(0.25)))
+                    .collect();
+                // Code the scan did not run at all (jumped over, an inactive stage): its text
+                // fades under a veil of the background.
+                let veil = ui.visuals().extreme_bg_color.gamma_multiply(0.6);
+                let veils: Vec<egui::Shape> = power
+                    .iter()
+                    .filter(|(_, s)| *s == crate::machine::LinePower::NotRun)
+                    .filter_map(|(l, _)| {
+                        let rect = rows.rect(*l)?;
+                        // From the text's first column (it starts at the gutter's edge).
+                        let rect = rect
+                            .with_min_x(rect.left() - 4.0)
+                            .with_max_x(ui.clip_rect().right() + 2000.0);
+                        Some(egui::Shape::rect_filled(rect, 0.0, veil))
                     })
                     .collect();
+                ui.painter().extend(veils);
                 let fills: Vec<egui::Shape> =
                     [(pc_line, p.current_line), (fault_line, p.fault_line)]
                         .into_iter()
