@@ -11,13 +11,15 @@ use crate::ui::panels::DialectPanel;
 use crate::ui::theme::palette;
 
 pub fn panels() -> Vec<Box<dyn DialectPanel>> {
+    // Timers and stages first: they show only for programs that have them, and then they are
+    // what the program is about (their tabs stay in view in a narrow pane).
     vec![
-        Box::new(StackPanel::default()),
-        Box::new(RungPanel),
         Box::new(crate::machine::plc::panel::BoxesPanel {
             rows: |debugger| debugger.machine_as::<Dl205>().map(Dl205::boxes),
         }),
         Box::new(StagesPanel),
+        Box::new(StackPanel::default()),
+        Box::new(RungPanel),
     ]
 }
 
