@@ -507,3 +507,35 @@ fn the_parts_counter_fills_a_box_of_twelve() {
         (0, 0, 1)
     );
 }
+
+/// The remaining rows of §6.1 and §6.5 one by one, values from their formulas.
+#[test]
+fn contact_and_logic_rows() {
+    let src = "STR SP1\nANDE V0 K5\nOUT Y0\nSTR SP2\nORE V0 K5\nOUT Y1\nSTR SP1\nANDNE V0 K5\nOUT Y2\n\
+               STR SP2\nORNE V0 K6\nOUT Y3\nSTR SP1\nANDPD X0\nOUT Y4\nSTR SP2\nORND X0\nOUT Y5\n\
+               STR SP1\nANDND X0\nOUT Y6\nSTR SP2\nORPD X0\nOUT Y7\n\
+               STR SP1\nLDD K0F0F0F0F\nXORD KFFFF0000\nOUTD V10\nLDD K1\nROTR K1\nOUTD V20\n\
+               LD K21\nOUT V40\nLDD K80000000\nROTL V40\nOUTD V22\nLDD K0000FFFF\nBCD\nOUTD V30\nEND";
+    let mut m = plc(src, 10);
+    set(&mut m, "V0", 5);
+    to_scan(&mut m, 1);
+    let y = |m: &Dl205| (0..8).map(|i| get(m, &format!("Y{i}"))).collect::<Vec<_>>();
+    assert_eq!(y(&m), [1, 1, 0, 1, 0, 0, 0, 0]);
+    set(&mut m, "X0", 1);
+    to_scan(&mut m, 2);
+    assert_eq!(y(&m)[4..], [1, 0, 0, 1], "X0 rose: the PD contacts fire");
+    to_scan(&mut m, 3);
+    assert_eq!(y(&m)[4..], [0, 0, 0, 0], "once");
+    set(&mut m, "X0", 0);
+    to_scan(&mut m, 4);
+    assert_eq!(y(&m)[4..], [0, 1, 1, 0], "X0 fell: the ND contacts fire");
+    let pair = |m: &Dl205, v: &str, w: &str| get(m, v) | get(m, w) << 16;
+    assert_eq!(pair(&m, "V10", "V11"), 0xF0F0_0F0F, "XORD");
+    assert_eq!(pair(&m, "V20", "V21"), 0x8000_0000, "ROTR 1");
+    assert_eq!(
+        pair(&m, "V22", "V23"),
+        1,
+        "ROTL by V40 = 33 (binary) is ROTL 1"
+    );
+    assert_eq!(pair(&m, "V30", "V31"), 0x0006_5535, "BCD of 65535");
+}
