@@ -106,11 +106,27 @@ pub fn parse_set_spec(m: &dyn MachineView, spec: &str) -> Result<UserEvent, ArgE
         name: name.trim().to_string(),
         dialect: m.dialect(),
     })?;
-    let width = m.info(loc).map_or(64, |i| i.width);
-    let v = value::parse_value(text, width).map_err(|source| ArgError::BadValue {
+    let info = m.info(loc);
+    let width = info.as_ref().map_or(64, |i| i.width);
+    let bad = |source| ArgError::BadValue {
         spec: spec.to_string(),
         source,
-    })?;
+    };
+    // A location read as unsigned (DL205 V words: 0–65535) takes no negative value.
+    if let Some(info) = &info
+        && !info.signed
+        && info.reading() != value::Format::Signed
+        && text.trim_start().starts_with('-')
+        && width < 64
+    {
+        return Err(bad(value::ValueError::TooWide {
+            text: text.trim().to_string(),
+            width,
+            min: 0,
+            max: (1i128 << width) - 1,
+        }));
+    }
+    let v = value::parse_value(text, width).map_err(bad)?;
     Ok(UserEvent {
         at: Pos::default(),
         loc,

@@ -423,6 +423,15 @@ fn the_runner_takes_scan_ms_and_reports_time() {
     let out = run(&["--max-ticks", "149", "--setting", "scan_ms=20"]);
     let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert!(j["bits"].get("T1").is_none());
+    // --set Vn=VALUE: decimal or 0x hex, 0–65535 (§8).
+    let out = run(&["--set", "V2000=0x12", "--max-ticks", "0"]);
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(j["registers"]["V2000"], 0x12);
+    for bad in ["V2000=-1", "V2000=65536", "V40000=1"] {
+        let out = run(&["--set", bad]);
+        assert_eq!(out.status.code(), Some(2), "--set {bad}");
+        assert!(out.stdout.is_empty(), "--set {bad}");
+    }
     for bad in [
         "scan_ms=0",
         "scan_ms=1001",
