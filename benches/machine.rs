@@ -15,7 +15,10 @@ const COMMANDS: u64 = 1_000_000;
 
 #[path = "common/programs.rs"]
 mod programs;
-use programs::{ARITHMETIC, TML_ARITHMETIC, dl205_ladder_program, dl205_program, opennet_program};
+use programs::{
+    ARITHMETIC, TML_ARITHMETIC, dl205_ladder_program, dl205_program, opennet_ladder_program,
+    opennet_program,
+};
 
 const QUEUE: &str = "\
       CLD Q_INIT, 11, 40, 16
@@ -115,6 +118,18 @@ fn benches(c: &mut Criterion) {
             black_box(m.d[0])
         })
     });
+    let ladder = servoscope::machine::opennet::dialect::machine(&opennet_ladder_program())
+        .expect("bench program assembles");
+    group.bench_function(
+        "100-instruction ladder scan: timers, counters, CMP, MCS, a jump (scans)",
+        |b| {
+            b.iter(|| {
+                let mut m = ladder.clone();
+                m.run_bare(Pos::at_tick(SCANS));
+                black_box(m.d[0])
+            })
+        },
+    );
     group.finish();
 
     // DL205: scans of 100 instructions of math rungs.

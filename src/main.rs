@@ -221,6 +221,10 @@ fn run(args: &RunArgs) -> Result<u8, String> {
         }
     };
     let m = engine.machine();
+    // Warnings never stop a run (OpenNet's MICRO3 relays): stderr, exit code unchanged.
+    for d in m.warnings().iter().take(MAX_DIAGNOSTICS_SHOWN) {
+        say(&d.with_file(&name).to_string());
+    }
     let events = match &start.session {
         // A session resumes at its saved tick; the events decide everything, so running on
         // from the start with them gives exactly the straight run's result.

@@ -26,3 +26,24 @@ fn the_dl205_ladder_benchmark_is_100_instructions_of_ladder() {
     assert_eq!(count(|op| matches!(op, Op::Gts(_))), 1, "a call");
     assert!(assemble(&programs::dl205_program()).is_ok());
 }
+
+#[test]
+fn the_opennet_ladder_benchmark_is_100_instructions_of_ladder() {
+    use servoscope::machine::opennet::program::Op as On;
+    let program =
+        servoscope::machine::opennet::assembler::assemble(&programs::opennet_ladder_program())
+            .expect("assembles");
+    assert_eq!(program.instrs.len(), 100);
+    let count = |f: fn(&On) -> bool| program.instrs.iter().filter(|i| f(&i.op)).count();
+    assert_eq!(count(|op| matches!(op, On::Timer { .. })), 8, "8 timers");
+    assert_eq!(
+        count(|op| matches!(op, On::Counter { .. })),
+        8,
+        "8 counters"
+    );
+    assert_eq!(count(|op| matches!(op, On::WordCompare { .. })), 1, "a CMP");
+    assert_eq!(count(|op| matches!(op, On::Mcs)), 1, "an MCS area");
+    assert!(
+        servoscope::machine::opennet::assembler::assemble(&programs::opennet_program()).is_ok()
+    );
+}

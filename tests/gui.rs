@@ -1541,3 +1541,77 @@ fn the_stepping_keys_go_over_into_and_out_of_a_call() {
     h.get_by_label_contains("Step out (until the subroutine returns)");
     h.get_by_label_contains("Step into (one");
 }
+
+/// OpenNet's timers count down: the Timers & counters panel shows each with its preset, its
+/// current value as time, the time gone and the scans to go, and its output lamp.
+#[test]
+fn the_opennet_timers_panel_counts_down() {
+    let opennet = servoscope::machine::registry::by_name("opennet").expect("registered");
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.load_program_as(
+        opennet,
+        "traffic_light.opennet",
+        include_str!("../assets/examples/traffic_light.opennet"),
+    );
+    let mut h = harness(app);
+    // A program with timers opens on their panel.
+    let boxes = servoscope::ui::layout::Pane::Dialect("Timers & counters".into());
+    assert!(h.state().layout.is_shown(&boxes));
+    h.get_by_label("TIM T0");
+    h.get_by_label("T0 not done");
+    let i0 = h.state().debugger.machine().find("I0").expect("I0");
+    h.state_mut()
+        .debugger
+        .set_input(i0, true)
+        .expect("an input");
+    // T0 (preset 50 × 100 ms) first powered in scan 0; after scan 299: 29 tenths and 90 ms
+    // gone, 21 left: 2100 − 90 = 2010 ms = 201 scans to go (on in scan 500).
+    h.state_mut().debugger.goto_tick(300);
+    for _ in 0..200 {
+        if h.state().debugger.machine().ticks() == 300 {
+            break;
+        }
+        h.run_steps(1);
+    }
+    h.run_steps(2);
+    h.get_by_label("T0.current = 2.1 s");
+    assert!(
+        h.get_all_by_label("2990 ms elapsed, 201 scans to go")
+            .next()
+            .is_some()
+    );
+    assert_eq!(
+        h.get_all_by_label("5.0 s").count(),
+        2,
+        "T0 and T2 preset 5 s"
+    );
+    h.get_by_label("2.0 s");
+    h.state_mut().debugger.goto_tick(501);
+    for _ in 0..200 {
+        if h.state().debugger.machine().ticks() == 501 {
+            break;
+        }
+        h.run_steps(1);
+    }
+    h.run_steps(2);
+    h.get_by_label("T0 done");
+    h.get_by_label("TIM T0").click();
+    h.run_steps(2);
+    assert_eq!(h.state().code.cursor_line, Some(22));
+}
+
+/// A MICRO3 relay the program never writes is a warning in Problems; the program still runs.
+#[test]
+fn an_opennet_warning_is_listed_and_the_program_runs() {
+    let opennet = servoscope::machine::registry::by_name("opennet").expect("registered");
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.load_program_as(opennet, "micro3.opennet", "LOD M303\nOUT Q0\n");
+    let mut h = harness(app);
+    h.run_steps(2);
+    h.get_by_label("Problems (1)");
+    h.get_by_label("Warnings only: the program runs.");
+    h.get_by_label_contains("warning: M303 is the MICRO3 carry/borrow relay");
+    h.key_press(egui::Key::F10);
+    h.run_steps(2);
+    assert_eq!(h.state().debugger.machine().steps(), 1, "F10 stepped");
+}

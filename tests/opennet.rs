@@ -353,7 +353,7 @@ proptest! {
 
 #[test]
 fn every_error_class_with_line_and_column() {
-    let src = "LD I0\nADDW D0 D1 D2\nINC(I) D0\nLOD I8\nOUT I0\nLOD D0\nMOV(W) 70000 D0\nADD(W) D0(R) D1 D2\nADD(W) D0 D1 D2 REP 100\nMOV(W) 5(R) D0 REP 2\nTIM 10\nLOD T0\nMOV(W) D7999(R) D0 REP 2\nAND(W) I0\nMOV(W) D0\nLOD M8000\n";
+    let src = "LD I0\nADDW D0 D1 D2\nINC(I) D0\nLOD I8\nOUT I0\nLOD D0\nMOV(W) 70000 D0\nADD(W) D0(R) D1 D2\nADD(W) D0 D1 D2 REP 100\nMOV(W) 5(R) D0 REP 2\nTIM 10\nLOD L0\nMOV(W) D7999(R) D0 REP 2\nAND(W) I0\nMOV(W) D0\nLOD M8000\n";
     let e = errors(src);
     let expect = [
         "1:1: error: unknown mnemonic 'LD' (did you mean LOD?)",
@@ -366,8 +366,8 @@ fn every_error_class_with_line_and_column() {
         "8:8: error: (R) without REP",
         "9:21: error: REP count outside 1–99",
         "10:8: error: (R) cannot follow a constant",
-        "11:1: error: TIM is an OpenNet instruction not supported by servoscope yet",
-        "12:5: error: T0 is a timer (T), not supported by servoscope yet",
+        "11:1: error: TIM takes 2 operand(s), found 1",
+        "12:5: error: L0 is a link register (L), not supported by servoscope yet",
         "13:8: error: D7999(R) with its 2 word(s) runs past D7999",
         "14:1: error: AND is a basic instruction",
         "15:1: error: MOV takes 2 operand(s), found 1",
@@ -384,6 +384,7 @@ fn a_line_that_does_not_assemble_adds_no_rung_errors_after_it() {
     for (src, line) in [
         ("LOD I0\nADDW D0 D1 D2\nLOD I1\nOUT Q0\nEND", 2),
         ("LOD I0\nTIM 10\nLOD I1\nOUT Q0\nEND", 2),
+        ("LOD I0\nWSFT D0 D1 3\nLOD I1\nOUT Q0\nEND", 2),
         ("LOD I0\nOUT Q9\nLOD I1\nOUT Q0\nEND", 2),
     ] {
         let e = errors(src);

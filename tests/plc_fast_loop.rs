@@ -246,6 +246,129 @@ fn opennet(src: &str) -> Option<servoscope::machine::opennet::OpenNet> {
     servoscope::machine::opennet::dialect::machine(src).ok()
 }
 
+// OpenNet's control instructions (spec §5.8–§5.12): timers, counters, shift registers,
+// compare contacts, CMP, word logic, shifts, conversions, MCS areas and jumps. `T#`/`C#` are
+// numbered in program order (a number has one instruction).
+
+fn ctl_bit() -> impl Strategy<Value = &'static str> {
+    prop::sample::select(vec![
+        "I0", "I1", "Q0", "M0", "M1", "M8121", "M8122", "M8123", "M8125", "T0", "T1", "C0", "C1",
+        "R0", "R3",
+    ])
+}
+
+fn ctl_output() -> impl Strategy<Value = String> {
+    prop_oneof![
+        2 => (prop::sample::select(vec!["OUT", "OUTN", "SET", "RST"]), prop::sample::select(vec!["Q0", "M0", "M1", "R2"]))
+            .prop_map(|(op, b)| format!("{op} {b}")),
+        3 => (prop::sample::select(vec!["TML", "TIM", "TMH", "TMS"]), prop_oneof![(0u32..40).prop_map(|p| p.to_string()), Just("D6".to_string())])
+            .prop_map(|(op, p)| format!("{op} T# {p}")),
+        2 => (prop::sample::select(vec!["CMP=", "CMP<>", "CMP<", "CMP>=", "ICMP>="]), prop::sample::select(vec!["W", "I", "D", "L"]), 0u32..4, 0u32..300, prop::option::of(1u8..4))
+            .prop_map(|(op, t, d, v, rep)| {
+                let third = if op == "ICMP>=" { " 7" } else { "" };
+                match rep {
+                    Some(n) => format!("{op}({t}) D{d}(R) {v}{third} M10(R) REP {n}"),
+                    None => format!("{op}({t}) D{d} {v}{third} M10"),
+                }
+            }),
+        1 => (prop::sample::select(vec!["ANDW", "ORW", "XORW"]), prop::sample::select(vec!["W", "D"]))
+            .prop_map(|(op, t)| format!("{op}({t}) D1 D2 D3")),
+        1 => (prop::sample::select(vec!["SFTL", "SFTR"]), prop::sample::select(vec![("W", "D2"), ("D", "D2"), ("W", "R0")]), 1u8..8)
+            .prop_map(|(op, (t, x), n)| format!("{op}({t}) {x} {n}")),
+        1 => (prop::sample::select(vec!["HTOB", "BTOH"]), prop::sample::select(vec!["W", "D"]))
+            .prop_map(|(op, t)| format!("{op}({t}) D0 D4")),
+        1 => Just("MOV(W) C1 D5".to_string()),
+        1 => Just("MOV(W) D5 T1".to_string()),
+        1 => Just("ADD(W) C0(R) D1 D1 REP 2".to_string()),
+        2 => prop::sample::select(vec!["INC(W) D0", "DEC(W) D6", "ADD(W) D0 1 D1"]).prop_map(String::from),
+    ]
+}
+
+fn ctl_start() -> impl Strategy<Value = String> {
+    prop_oneof![
+        4 => (prop::sample::select(vec!["LOD", "LODN"]), ctl_bit()).prop_map(|(op, b)| format!("{op} {b}")),
+        1 => (prop::sample::select(vec!["CC=", "CC>="]), 0u32..2, 0u32..5).prop_map(|(op, c, v)| format!("{op} C{c} {v}")),
+        1 => (prop::sample::select(vec!["DC=", "DC>="]), 0u32..3, 0u32..50).prop_map(|(op, d, v)| format!("{op} D{d} {v}")),
+    ]
+}
+
+fn ctl_rung() -> impl Strategy<Value = String> {
+    let plain = (
+        ctl_start(),
+        prop::collection::vec(
+            (
+                prop::sample::select(vec!["AND", "ANDN", "OR", "ORN"]),
+                ctl_bit(),
+            ),
+            0..2,
+        ),
+        prop::sample::select(vec!["", "SOTU\n", "SOTD\n"]),
+        prop::collection::vec(ctl_output(), 1..3),
+    )
+        .prop_map(|(start, terms, edge, outputs)| {
+            let terms: String = terms.iter().map(|(op, b)| format!("{op} {b}\n")).collect();
+            format!("{start}\n{terms}{edge}{}\n", outputs.join("\n"))
+        });
+    let counter = (
+        prop::sample::select(vec!["CNT", "CDP", "CUD", "SFR", "SFRN"]),
+        ctl_start(),
+        ctl_bit(),
+        ctl_bit(),
+        prop_oneof![
+            (0u32..6).prop_map(|p| p.to_string()),
+            Just("D2".to_string())
+        ],
+    )
+        .prop_map(|(op, first, b, c, p)| {
+            let third = if op == "CNT" {
+                String::new()
+            } else {
+                format!("LOD {c}\n")
+            };
+            match op {
+                "SFR" | "SFRN" => format!("{first}\nLOD {b}\n{third}{op} R0 6\n"),
+                _ => format!("{first}\nLOD {b}\n{third}{op} C# {p}\n"),
+            }
+        });
+    prop_oneof![3 => plain, 2 => counter]
+}
+
+/// Rungs, some inside an MCS area or after a JMP.
+fn ctl_program() -> impl Strategy<Value = String> {
+    let group = (
+        prop::sample::select(vec!["", "MCS", "JMP"]),
+        ctl_bit(),
+        prop::collection::vec(ctl_rung(), 1..4),
+    )
+        .prop_map(|(area, b, rungs)| match area {
+            "" => rungs.concat(),
+            "MCS" => format!("LOD {b}\nMCS\n{}MCR\n", rungs.concat()),
+            _ => format!("LOD {b}\nJMP\n{}JEND\n", rungs.concat()),
+        });
+    (prop::collection::vec(group, 1..5), any::<bool>()).prop_map(|(groups, end)| {
+        let mut text = groups.concat() + if end { "END\n" } else { "" };
+        for letter in ["T", "C"] {
+            let mut n = 0;
+            while let Some(at) = text.find(&format!("{letter}#")) {
+                text.replace_range(at..at + 2, &format!("{letter}{n}"));
+                n += 1;
+            }
+        }
+        text
+    })
+}
+
+/// OpenNet at a scan time other than the default.
+fn opennet_at(scan_ms: u32) -> impl Fn(&str) -> Option<servoscope::machine::opennet::OpenNet> {
+    move |src| {
+        let program = servoscope::machine::opennet::assembler::assemble(src).ok()?;
+        Some(servoscope::machine::opennet::OpenNet::with_time(
+            std::sync::Arc::new(program),
+            servoscope::machine::plc::TimeBase { scan_ms },
+        ))
+    }
+}
+
 // ---------------------------------------------------------------------------------------
 // DL205
 
@@ -404,6 +527,20 @@ proptest! {
     }
 
     #[test]
+    fn the_opennet_fast_loop_runs_timers_counters_mcs_and_jumps_as_the_executor(
+        src in ctl_program(),
+        scan_ms in prop::sample::select(vec![1u32, 7, 10, 33, 250]),
+        legs in prop::collection::vec((0u64..60, 0u32..30), 1..20),
+    ) {
+        let open = opennet_at(scan_ms);
+        let start = open(&src);
+        prop_assert!(start.is_some(), "the generator writes valid programs:\n{src}");
+        if let Some(start) = start {
+            fast_is_full(start, &legs).map_err(|e| TestCaseError::fail(format!("{e}\n{src}")))?;
+        }
+    }
+
+    #[test]
     fn the_dl205_fast_loop_leaves_the_plc_as_the_executor(
         src in dl_program(),
         legs in prop::collection::vec((0u64..30, 0u32..12), 1..20),
@@ -437,6 +574,25 @@ proptest! {
             let events = user_events(&start, &raw);
             quiet_is_observed(start, events, &plotted, &written, legs)
         })?;
+    }
+
+    #[test]
+    fn a_quiet_opennet_recording_with_timers_and_jumps_is_the_observed_recording(
+        src in ctl_program(),
+        raw in events(&["I0", "I1"], &["D0", "D2", "D6", "T0.preset", "C1.current"]),
+        plotted in prop::collection::vec(prop::sample::select(vec!["D0", "T0.current", "C0.current", "Q0", "R0", "M10"]), 1..3),
+        ticks in 1u64..20_000,
+        step in 0u32..8,
+    ) {
+        let written = ["D0", "D1", "D4", "Q0", "M0", "M10", "R0", "T0.current", "T1.preset", "C0.current", "C0", "M8003", "M8004"];
+        let legs = (Pos { tick: ticks / 3, step }, Pos::at_tick(ticks));
+        let start = opennet(&src);
+        prop_assert!(start.is_some(), "the generator writes valid programs:\n{src}");
+        if let Some(start) = start {
+            let events = user_events(&start, &raw);
+            quiet_is_observed(start, events, &plotted, &written, legs)
+                .map_err(|e| TestCaseError::fail(format!("{e}\n{src}")))?;
+        }
     }
 
     #[test]

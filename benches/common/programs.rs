@@ -112,6 +112,47 @@ pub fn dl205_ladder_program() -> String {
     src
 }
 
+/// A 100-instruction OpenNet program of what ladder programs are made of: 8 timers of all
+/// four kinds on clocks, 8 counters (CNT and CUD with their input blocks), a CMP over a
+/// counter, an MCS area that the 1-s clock turns on and off, a jump, an edge and a little
+/// arithmetic on the current values.
+pub fn opennet_ladder_program() -> String {
+    let mut src = String::new();
+    for (n, timer) in ["TML", "TIM", "TMH", "TMS"].iter().enumerate() {
+        src.push_str(&format!("LOD M8125\n{timer} T{n} 30\n"));
+        src.push_str(&format!("LOD M8122\nTMH T{} 5\n", 4 + n));
+    }
+    src.push_str("LOD M8121\nMCS\n");
+    for n in 0..4 {
+        src.push_str(&format!("LODN T{n}\nLOD M8122\nCNT C{n} 10\n"));
+        src.push_str(&format!(
+            "LOD C{n}\nLOD M8123\nLOD I3\nCUD C{} 100\n",
+            4 + n
+        ));
+    }
+    src.push_str("MCR\n");
+    src.push_str("LOD M8125\nCMP>=(W) C0 5 M20\n");
+    for n in 0..4 {
+        src.push_str(&format!("LOD T{n}\nAND C{n}\nOUT Q{n}\n"));
+    }
+    src.push_str("LOD T4\nSOTU\nINC(W) D0\n");
+    src.push_str("LOD M20\nJMP\nLOD M8125\nMOV(W) C4 D1\nJEND\n");
+    let math = ["LOD M8125", "ADD(W) C0 D1 D2", "MOV(W) T1 D3"];
+    let mut count = src.lines().count();
+    'fill: loop {
+        for i in math {
+            if count == 99 {
+                break 'fill;
+            }
+            src.push_str(i);
+            src.push('\n');
+            count += 1;
+        }
+    }
+    src.push_str("END\n");
+    src
+}
+
 /// Ten statements a round: 16- and 32-bit adds, a multiply into PREG, a fixed division, a
 /// shift, a read of PRODH and a conditional jump.
 pub const TML_ARITHMETIC: &str = "\

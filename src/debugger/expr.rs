@@ -267,6 +267,21 @@ fn lex(text: &str) -> Result<Vec<Token>, ExprError> {
             });
             i = j;
         } else if c == '.'
+            && chars.get(i + 1).is_some_and(|n| n.is_ascii_alphabetic())
+            && let Some(Token {
+                tok: Tok::Name(name),
+                text,
+                ..
+            }) = out.last_mut()
+        {
+            // A field of a named thing: OpenNet's `T3.current`, `C0.preset`.
+            let j = word_end(i + 1);
+            let field: String = chars[i + 1..j].iter().collect();
+            name.push('.');
+            name.push_str(&field);
+            *text = name.clone();
+            i = j;
+        } else if c == '.'
             && matches!(
                 out.last(),
                 Some(Token {

@@ -336,8 +336,15 @@ impl Debugger {
     pub fn diagnostics(&self) -> &[Diagnostic] {
         &self.diagnostics
     }
+    /// Whether the program did not assemble (warnings alone leave it running).
     pub fn has_errors(&self) -> bool {
-        !self.diagnostics.is_empty()
+        self.error_count() > 0
+    }
+    pub fn error_count(&self) -> usize {
+        self.diagnostics
+            .iter()
+            .filter(|d| d.severity == crate::machine::Severity::Error)
+            .count()
     }
     pub fn machine(&self) -> &dyn MachineView {
         self.engine.machine()
@@ -571,7 +578,9 @@ impl Debugger {
                 self.engine = engine;
                 self.restart();
                 self.assembled_source = self.source.clone();
-                self.diagnostics.clear();
+                // What is left are warnings: they are shown, the program runs.
+                self.diagnostics = self.engine.machine().warnings();
+                self.diagnostics.sort_by_key(|d| (d.line, d.col));
                 self.event = Some(Event::Assembled);
                 true
             }

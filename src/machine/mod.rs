@@ -348,6 +348,12 @@ pub trait MachineView: Send + 'static {
         Vec::new()
     }
 
+    /// Warnings about the program that do not stop it (OpenNet: a MICRO3 relay read but never
+    /// written): the window lists them with the problems, the runner prints them on stderr.
+    fn warnings(&self) -> Vec<Diagnostic> {
+        Vec::new()
+    }
+
     /// Status relays the PLC itself drives at the start of every scan (DL205's SP0 first scan
     /// and SP1 always on). Before the first scan starts the window draws them as not driven
     /// yet, as the vendor's tool shows a PLC that is not running; the state itself keeps the

@@ -197,6 +197,7 @@ pub fn error_underlines(
     diagnostics: &[Diagnostic],
     visible: std::ops::Range<usize>,
     color: egui::Color32,
+    warning: egui::Color32,
 ) -> Vec<egui::Shape> {
     use egui::epaint::text::CharIndex;
     let from = diagnostics.partition_point(|d| d.line < visible.start);
@@ -214,9 +215,14 @@ pub fn error_underlines(
             let rect = row.rect().translate(origin.to_vec2());
             let y = rect.bottom() - 1.0;
             let x = |i: usize| rect.left() + row.x_offset(CharIndex(i));
+            // A warning (the program still runs) in the highlight colour, not the error's.
+            let colour = match d.severity {
+                crate::machine::Severity::Warning => warning,
+                crate::machine::Severity::Error => color,
+            };
             Some(egui::Shape::line_segment(
                 [pos2(x(start), y), pos2(x(end), y)],
-                Stroke::new(2.0, color),
+                Stroke::new(2.0, colour),
             ))
         })
         .collect()
@@ -585,6 +591,7 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                     debugger.diagnostics(),
                     rows.visible(clip.top(), clip.bottom()),
                     p.error,
+                    p.written,
                 ));
                 // When the pane's height changes (the window is laid out, or resized) the line
                 // about to run is brought back into view if it fell out of it.
@@ -878,6 +885,13 @@ fn gutter_ui(
 ) {
     let clip = ui.clip_rect();
     let error_lines: Vec<usize> = debugger.diagnostics().iter().map(|d| d.line).collect();
+    let warning_only = |line: usize| {
+        debugger
+            .diagnostics()
+            .iter()
+            .filter(|d| d.line == line)
+            .all(|d| d.severity == crate::machine::Severity::Warning)
+    };
     let power = debugger.machine().line_power();
     // Per line: whether any breakpoint is on it, any enabled, and any with more than a line.
     let marks: std::collections::BTreeMap<usize, (bool, bool)> = debugger
@@ -985,7 +999,11 @@ fn gutter_ui(
             );
             painter.rect_filled(bar, 0.0, colour);
         }
-        let number_color = if has_error { p.error } else { p.dim };
+        let number_color = match has_error {
+            true if warning_only(line) => p.written,
+            true => p.error,
+            false => p.dim,
+        };
         painter.text(
             row.right_center() - vec2(6.0, 0.0),
             egui::Align2::RIGHT_CENTER,
@@ -1022,7 +1040,12 @@ fn problems(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView) {
         .show(ui, |ui| {
             ui.horizontal(|ui| {
                 ui.strong(format!("Problems ({})", debugger.diagnostics().len()));
-                ui.label(egui::RichText::new("Nothing runs until these are fixed.").color(p.dim));
+                let note = if debugger.has_errors() {
+                    "Nothing runs until the errors are fixed."
+                } else {
+                    "Warnings only: the program runs."
+                };
+                ui.label(egui::RichText::new(note).color(p.dim));
             });
             let diagnostics = debugger.diagnostics();
             let row_height = ui.spacing().interact_size.y;
@@ -1032,16 +1055,22 @@ fn problems(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView) {
                 .auto_shrink([false, true])
                 .show_rows(ui, row_height, diagnostics.len(), |ui, rows| {
                     for d in &diagnostics[rows] {
+                        let warning = d.severity == crate::machine::Severity::Warning;
                         let text = format!(
-                            "{}:{}  {}",
+                            "{}:{}  {}{}",
                             d.line,
                             d.col,
+                            if warning { "warning: " } else { "" },
                             crate::machine::diagnostics::printable(&d.message)
                         );
                         let r = ui.add(
                             egui::Button::selectable(
                                 false,
-                                egui::RichText::new(text).color(p.error),
+                                egui::RichText::new(text).color(if warning {
+                                    p.written
+                                } else {
+                                    p.error
+                                }),
                             )
                             .min_size(Vec2::ZERO),
                         );
@@ -1088,9 +1117,26 @@ mod tests {
                 .iter()
                 .map(|r| r.rect().translate(origin.to_vec2()))
                 .collect();
-            shapes = error_underlines(&galley, origin, 1, &diags, 1..5, egui::Color32::RED);
+            shapes = error_underlines(
+                &galley,
+                origin,
+                1,
+                &diags,
+                1..5,
+                egui::Color32::RED,
+                egui::Color32::YELLOW,
+            );
             assert!(
-                error_underlines(&galley, origin, 1, &diags, 4..5, egui::Color32::RED).is_empty()
+                error_underlines(
+                    &galley,
+                    origin,
+                    1,
+                    &diags,
+                    4..5,
+                    egui::Color32::RED,
+                    egui::Color32::YELLOW
+                )
+                .is_empty()
             );
         });
         output.textures_delta.clear();

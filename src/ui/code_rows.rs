@@ -151,7 +151,16 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                 egui::Align2::RIGHT_CENTER,
                 line.to_string(),
                 font.clone(),
-                if errors.is_empty() { p.dim } else { p.error },
+                if errors.is_empty() {
+                    p.dim
+                } else if errors
+                    .iter()
+                    .all(|d| d.severity == crate::machine::Severity::Warning)
+                {
+                    p.written
+                } else {
+                    p.error
+                },
             );
 
             // The text, coloured; click to put the cursor on the line.
@@ -166,6 +175,7 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                 errors,
                 line..line + 1,
                 p.error,
+                p.written,
             ));
             ui.painter().galley(text_rect.left_top(), galley, p.text);
             let response = ui.interact(text_rect, Id::unique(("code_line", line)), Sense::click());

@@ -73,7 +73,7 @@ pub fn status_bar(ui: &mut egui::Ui, debugger: &Debugger) {
         let line = m
             .last_line()
             .map_or(String::new(), |l| format!("line {l}: "));
-        let errors = debugger.diagnostics().len();
+        let errors = debugger.error_count();
         let text = match m.explain_last() {
             // Step and Run are disabled: say why, not which key steps.
             _ if errors > 0 => format!(

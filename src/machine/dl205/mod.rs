@@ -149,29 +149,7 @@ pub struct Dl205 {
     pub power: Vec<Option<bool>>,
 }
 
-/// The value of the low `n` BCD digits of `x`, or None if one is not a decimal digit.
-pub fn bcd_value(x: u32, n: u32) -> Option<u64> {
-    let mut v = 0u64;
-    for i in (0..n).rev() {
-        let d = x >> (4 * i) & 0xF;
-        if d > 9 {
-            return None;
-        }
-        v = v * 10 + u64::from(d);
-    }
-    Some(v)
-}
-
-/// The BCD pattern of the low 8 decimal digits of `v`.
-pub fn to_bcd(v: u64) -> u32 {
-    let mut v = v % 100_000_000;
-    let mut out = 0u32;
-    for i in 0..8 {
-        out |= ((v % 10) as u32) << (4 * i);
-        v /= 10;
-    }
-    out
-}
+pub use crate::machine::plc::{bcd_value, to_bcd};
 
 impl Dl205 {
     pub fn new(program: Arc<Program>) -> Self {
@@ -1118,6 +1096,7 @@ impl Dl205 {
                     unit_ms,
                     done: self.bit(b.status),
                     line: ins.line,
+                    countdown: None,
                     status,
                 })
             })

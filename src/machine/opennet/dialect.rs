@@ -15,7 +15,7 @@ pub static DIALECT: Dialect = Dialect {
         step: "instruction",
         steps: "instructions",
         location_hint: "D0",
-        watch_hint: "D0 + D1, M8004",
+        watch_hint: "D0 + D1, T0.current",
         condition_hint: "D0 > 100 && I0",
     },
     examples: &[
@@ -39,12 +39,28 @@ pub static DIALECT: Dialect = Dialect {
             "exec_error.opennet",
             include_str!("../../../assets/examples/exec_error.opennet"),
         ),
+        (
+            "traffic_light.opennet",
+            include_str!("../../../assets/examples/traffic_light.opennet"),
+        ),
+        (
+            "parts_counter.opennet",
+            include_str!("../../../assets/examples/parts_counter.opennet"),
+        ),
+        (
+            "conveyor.opennet",
+            include_str!("../../../assets/examples/conveyor.opennet"),
+        ),
+        (
+            "alarm.opennet",
+            include_str!("../../../assets/examples/alarm.opennet"),
+        ),
     ],
     lessons: &[(
         "opennet_overflow_lesson.ron",
         include_str!("../../../sessions/opennet_overflow_lesson.ron"),
     )],
-    settings: &[],
+    settings: &[crate::machine::plc::SCAN_MS],
     default_channels: &[ChannelSpec {
         location: "D0",
         label: "D0",
@@ -65,6 +81,10 @@ pub fn machine(source: &str) -> Result<OpenNet, Vec<crate::machine::Diagnostic>>
     Ok(OpenNet::new(Arc::new(assemble(source)?)))
 }
 
-fn open(source: &str, _settings: &Settings) -> OpenResult {
-    machine(source).map(crate::debugger::engine)
+fn open(source: &str, settings: &Settings) -> OpenResult {
+    let time = crate::machine::plc::TimeBase::from_settings(settings);
+    Ok(crate::debugger::engine(OpenNet::with_time(
+        Arc::new(assemble(source)?),
+        time,
+    )))
 }

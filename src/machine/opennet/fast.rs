@@ -1,15 +1,16 @@
 //! OpenNet's fast loop: each instruction pre-decoded once into a [`Flat`] op that runs with
 //! one dispatch, and whole scans run without the per-instruction record the views read (the
-//! last instruction, its REP cycles, the step counters). The scan's last instruction always
-//! runs in the full executor, so a machine leaves the fast loop exactly as the executor would
-//! leave it at the scan's end.
+//! last instruction, its REP cycles, the step counters). Timers, counters, comparisons, MCS
+//! and jumps run the executor's own code ([`OpenNet::act`]) without its record. The scan's
+//! last instruction always runs in the full executor, so a machine leaves the fast loop
+//! exactly as the executor would leave it at the scan's end.
 
 use std::sync::Arc;
 
 use super::program::{Arith, Bit, Instr, Op, Ty, Word};
-use super::view::{D, SPECIAL_SPACE, area_space};
+use super::view::static_writes;
 use super::{M8003, OpenNet};
-use crate::machine::{Loc, WriteSet};
+use crate::machine::WriteSet;
 
 /// A word operand the fast loop reads without looking at bits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -60,6 +61,8 @@ pub enum Flat {
         words: u8,
         reg: u32,
     },
+    /// The PLC's control instructions: [`OpenNet::act`] on the program's op.
+    Act,
     Full,
 }
 
@@ -67,7 +70,7 @@ fn operand(w: Word) -> Option<Operand> {
     match w {
         Word::Const(v) => Some(Operand::Const(v)),
         Word::Reg { n, .. } => Some(Operand::Reg(n)),
-        Word::Bits { .. } => None,
+        Word::Bits { .. } | Word::Timer { .. } | Word::Counter { .. } => None,
     }
 }
 
@@ -93,14 +96,11 @@ fn dst_block(op: Arith, ty: Ty) -> u32 {
 }
 
 /// The fast form of each instruction.
-pub fn flatten(instrs: &[Instr]) -> Vec<Flat> {
+pub fn flatten(instrs: &[Instr], opens: &[bool]) -> Vec<Flat> {
     instrs
         .iter()
-        .enumerate()
-        .map(|(i, instr)| {
-            let opens = i == 0 || super::is_output(&instrs[i - 1].op);
-            flat_op(instr.op, opens)
-        })
+        .zip(opens)
+        .map(|(instr, &opens)| flat_op(instr.op, opens))
         .collect()
 }
 
@@ -161,56 +161,15 @@ fn flat_op(op: Op, opens_rung: bool) -> Flat {
             reg,
         },
         Op::End => Flat::Full,
+        _ => Flat::Act,
     }
 }
 
 /// Every location a pass over `instrs` may write, as `note_writes` notes them one at a time.
 pub fn scan_writes(instrs: &[Instr]) -> WriteSet {
     let mut set = WriteSet::default();
-    let mut words = |w: Word, block: u32, rep: u8| {
-        for c in 0..u32::from(rep) {
-            let offset = if w.repeats() { c * block } else { 0 };
-            match w {
-                Word::Reg { n, .. } => {
-                    (n + offset..n + offset + block).for_each(|r| set.insert(Loc::new(D, r)));
-                }
-                Word::Bits { area, index, .. } => {
-                    let start = index + offset * 16;
-                    (start..start + block * 16)
-                        .for_each(|b| set.insert(Loc::new(area_space(area), b)));
-                }
-                Word::Const(_) => {}
-            }
-        }
-    };
-    let mut flags = Vec::new();
     for instr in instrs {
-        match instr.op {
-            Op::Out(b, _) | Op::Set(b) | Op::Rst(b) => flags.push(match b {
-                Bit::Point(area, i) => Loc::new(area_space(area), i),
-                Bit::Special(s) => Loc::new(SPECIAL_SPACE, u32::from(s)),
-            }),
-            Op::Mov { ty, dst, rep, .. } => words(dst, ty.words(), rep),
-            Op::Arith {
-                op, ty, dst, rep, ..
-            } => {
-                words(dst, dst_block(op, ty), rep);
-                flags.push(Loc::new(SPECIAL_SPACE, M8003 as u32));
-                flags.push(Loc::new(SPECIAL_SPACE, super::M8004 as u32));
-            }
-            Op::Step { ty, reg, .. } => words(
-                Word::Reg {
-                    n: reg,
-                    repeat: false,
-                },
-                ty.words(),
-                1,
-            ),
-            _ => {}
-        }
-    }
-    for loc in flags {
-        set.insert(loc);
+        static_writes(&instr.op, &mut |loc| set.insert(loc));
     }
     set
 }
@@ -249,9 +208,10 @@ impl OpenNet {
         }
     }
 
-    /// One instruction of the fast loop; `index` is where it is, for an error's line.
+    /// One instruction of the fast loop; `index` is where it is, for an error's line. Returns
+    /// the index of the next instruction.
     #[inline(always)]
-    fn run_flat(&mut self, index: usize, op: Flat) {
+    fn run_flat(&mut self, index: usize, op: Flat) -> usize {
         match op {
             Flat::Open(b, neg) => {
                 self.blocks.clear();
@@ -269,21 +229,11 @@ impl OpenNet {
             Flat::Bps => Self::push(&mut self.branches, self.rlo),
             Flat::Brd => self.rlo = self.branches.last().copied().unwrap_or(false),
             Flat::Bpp => self.rlo = self.branches.pop().unwrap_or(false),
-            Flat::Sotu(m) => {
-                let mem = &mut self.edges[m as usize];
-                let old = self.rlo;
-                self.rlo = old && !*mem;
-                *mem = old;
-            }
-            Flat::Sotd(m) => {
-                let mem = &mut self.edges[m as usize];
-                let old = self.rlo;
-                self.rlo = !old && *mem;
-                *mem = old;
-            }
-            Flat::Out(b, neg) => self.set_bit(b, self.rlo != neg),
-            Flat::Set(b) if self.rlo => self.set_bit(b, true),
-            Flat::Rst(b) if self.rlo => self.set_bit(b, false),
+            Flat::Sotu(m) => self.sotu(m),
+            Flat::Sotd(m) => self.sotd(m),
+            Flat::Out(b, neg) => self.set_bit(b, (self.rlo && self.mc) != neg),
+            Flat::Set(b) if self.rlo && self.mc => self.set_bit(b, true),
+            Flat::Rst(b) if self.rlo && self.mc => self.set_bit(b, false),
             Flat::Set(_) | Flat::Rst(_) => {}
             Flat::Mov {
                 words,
@@ -291,7 +241,7 @@ impl OpenNet {
                 dst,
                 rep,
                 steps: [s, d],
-            } if self.rlo => {
+            } if self.rlo && self.mc => {
                 for c in 0..u32::from(rep) {
                     let v = self.load(src, words, c * u32::from(s));
                     self.store(dst + c * u32::from(d), words, v);
@@ -305,19 +255,24 @@ impl OpenNet {
                 dst,
                 rep,
                 steps,
-            } if self.rlo => self.arith_flat(index, op, ty, [a, b], dst, rep, steps),
-            Flat::Step { up, words, reg } if self.rlo => {
+            } if self.rlo && self.mc => self.arith_flat(index, op, ty, [a, b], dst, rep, steps),
+            Flat::Step { up, words, reg } if self.rlo && self.mc => {
                 let v = self.load(Operand::Reg(reg), words, 0);
                 let next = if up { v.wrapping_add(1) } else { v.wrapping_sub(1) };
                 self.store(reg, words, if words == 1 { next & 0xFFFF } else { next });
             }
             Flat::Mov { .. } | Flat::Arith { .. } | Flat::Step { .. } => {}
+            Flat::Act => {
+                let op = self.program.instrs[index].op;
+                return self.act(index, op, false).map_or(index + 1, |to| to as usize);
+            }
             Flat::Full => {
                 self.pc = index as u32;
-                self.step = index as u32;
                 self.execute();
+                return self.pc as usize;
             }
         }
+        index + 1
     }
 
     /// The advanced arithmetic of [`OpenNet::execute`] without its record of the cycles.
@@ -375,13 +330,19 @@ impl OpenNet {
         let last = len - 1;
         let start = self.steps;
         self.refresh();
-        for (i, &op) in flat[..last].iter().enumerate() {
-            self.run_flat(i, op);
+        let mut i = 0;
+        let mut executed = 0u32;
+        while i < last {
+            let mc = self.mc;
+            let next = self.run_flat(i, flat[i]);
+            self.mark(i, mc);
+            executed += 1;
+            i = next;
         }
         // The last instruction in the executor: it ends the scan with the full record.
         self.pc = last as u32;
-        self.step = last as u32;
-        self.steps = start + last as u64;
+        self.step = executed;
+        self.steps = start + u64::from(executed);
         self.execute();
         true
     }

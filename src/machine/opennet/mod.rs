@@ -21,15 +21,54 @@ pub mod view;
 use std::sync::Arc;
 
 pub use assembler::assemble;
-use program::{Area, Arith, Bit, Op, Program, Ty, Word};
+use program::{
+    Area, Arith, BOXES, Bit, CounterKind, Logic, Op, Program, Ty, Value, Word,
+};
 
+use crate::machine::plc::{Edges, TimeBase, accumulate};
 
 pub const REGISTERS: usize = 8000;
 pub const STACK_DEPTH: usize = 8;
-/// Virtual scan time (spec §3).
-pub const SCAN_MICROS: u32 = 10_000;
 pub const M8003: usize = 0;
 pub const M8004: usize = 1;
+pub const M8120: usize = 2;
+pub const M8121: usize = 3;
+pub const M8122: usize = 4;
+pub const M8123: usize = 5;
+pub const M8125: usize = 6;
+
+/// A timer (spec §5.8): it counts down from its preset while its input is on.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TimerState {
+    pub preset: u16,
+    pub current: u16,
+    pub output: bool,
+    /// Timing since an earlier powered execution: the next one counts time.
+    pub running: bool,
+    /// Controller time toward the next increment, ms (0 ≤ e < increment).
+    pub elapsed_ms: u32,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CounterState {
+    pub preset: u16,
+    pub current: u16,
+    pub output: bool,
+}
+
+/// What an instruction did in this scan, for the code view (spec §5.12's dimming).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[repr(u8)]
+pub enum Mark {
+    #[default]
+    NotReached,
+    On,
+    Off,
+    /// Ran with MC = 0: every output input was off.
+    MasterOff,
+    /// Skipped by a taken JMP.
+    Jumped,
+}
 
 /// An execution error (spec §6).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -40,7 +79,7 @@ pub struct ExecError {
 }
 
 /// One REP cycle of the last advanced instruction, for the explanation.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Cycle {
     pub a: i64,
     pub b: i64,
@@ -55,6 +94,24 @@ pub struct Cycle {
     pub dst_at: u32,
 }
 
+impl Cycle {
+    /// A cycle that read `a` and `b` from these offsets; the rest is filled in by its kind.
+    fn read(a: i64, b: i64, a_at: u32, b_at: u32) -> Cycle {
+        Cycle {
+            a,
+            b,
+            exact: 0,
+            stored: 0,
+            remainder: 0,
+            out_of_range: false,
+            error: None,
+            a_at,
+            b_at,
+            dst_at: 0,
+        }
+    }
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct OpenNet {
     pub program: Arc<Program>,
@@ -64,12 +121,27 @@ pub struct OpenNet {
     pub input_image: Vec<bool>,
     pub q: Vec<bool>,
     pub m: Vec<bool>,
-    /// M8003, M8004, M8120, M8121, M8122.
-    pub special: [bool; 5],
+    /// Shift-register bits R0–R255.
+    pub r: Vec<bool>,
+    /// M8003, M8004, M8120, M8121, M8122, M8123, M8125 ([`SPECIAL`]).
+    pub special: [bool; 7],
     pub rlo: bool,
+    /// The master-control bit: outputs take RLO AND MC (spec §5.12).
+    pub mc: bool,
     pub blocks: Vec<bool>,
     pub branches: Vec<bool>,
-    pub edges: Vec<bool>,
+    /// SOTU/SOTD memories, and the pulse memories of counters and shift registers.
+    pub edges: Edges,
+    pub pulses: Edges,
+    pub timers: Vec<TimerState>,
+    pub counters: Vec<CounterState>,
+    pub time: TimeBase,
+    /// What each instruction did in this scan so far.
+    pub marks: Vec<Mark>,
+    /// The last timer's or counter's state before it ran (current value, output) and the
+    /// inputs of the last counter or shift register in program order, for the explanation.
+    pub box_before: (u16, bool),
+    pub legs: [bool; 3],
     pub pc: u32,
     pub tick: u64,
     pub step: u32,
@@ -84,19 +156,40 @@ pub struct OpenNet {
 
 impl OpenNet {
     pub fn new(program: Arc<Program>) -> Self {
-        let edges = vec![false; program.edges as usize];
+        Self::with_time(program, TimeBase::default())
+    }
+
+    pub fn with_time(program: Arc<Program>, time: TimeBase) -> Self {
+        let mut timers = vec![TimerState::default(); BOXES as usize];
+        for &(n, p) in &program.timer_presets {
+            timers[n as usize].preset = p;
+            timers[n as usize].current = p;
+        }
+        let mut counters = vec![CounterState::default(); BOXES as usize];
+        for &(n, p) in &program.counter_presets {
+            counters[n as usize].preset = p;
+        }
         OpenNet {
-            program,
             d: vec![0; REGISTERS],
             inputs: vec![false; Area::I.points() as usize],
             input_image: vec![false; Area::I.points() as usize],
             q: vec![false; Area::Q.points() as usize],
             m: vec![false; Area::M.points() as usize],
-            special: [false; 5],
+            r: vec![false; Area::R.points() as usize],
+            special: [false; 7],
             rlo: false,
+            mc: true,
             blocks: Vec::new(),
             branches: Vec::new(),
-            edges,
+            edges: Edges::new(program.edges as usize),
+            pulses: Edges::new(program.pulses as usize),
+            timers,
+            counters,
+            time,
+            marks: vec![Mark::NotReached; program.instrs.len()],
+            box_before: (0, false),
+            legs: [false; 3],
+            program,
             pc: 0,
             tick: 0,
             step: 0,
@@ -114,6 +207,7 @@ impl OpenNet {
             Area::I => &self.input_image,
             Area::Q => &self.q,
             Area::M => &self.m,
+            Area::R => &self.r,
         }
     }
 
@@ -122,6 +216,7 @@ impl OpenNet {
             Area::I => &mut self.input_image,
             Area::Q => &mut self.q,
             Area::M => &mut self.m,
+            Area::R => &mut self.r,
         }
     }
 
@@ -129,6 +224,8 @@ impl OpenNet {
         match b {
             Bit::Point(area, i) => self.area(area).get(i as usize).copied().unwrap_or(false),
             Bit::Special(s) => self.special[s as usize],
+            Bit::Timer(n) => self.timers.get(n as usize).is_some_and(|t| t.output),
+            Bit::Counter(n) => self.counters.get(n as usize).is_some_and(|c| c.output),
         }
     }
 
@@ -140,6 +237,8 @@ impl OpenNet {
                 }
             }
             Bit::Special(s) => self.special[s as usize] = v,
+            // The assembler never lets a bit instruction write a timer or counter.
+            Bit::Timer(_) | Bit::Counter(_) => {}
         }
     }
 
@@ -164,6 +263,23 @@ impl OpenNet {
                     acc | (u32::from(bits.get(start + i as usize).copied().unwrap_or(false)) << i)
                 })
             }
+            // A timer or counter as a source is its current value (spec §4.3).
+            Word::Timer { n, .. } => self.box_words(words, (n + offset) as usize, |m, i| {
+                m.timers.get(i).map_or(0, |t| t.current)
+            }),
+            Word::Counter { n, .. } => self.box_words(words, (n + offset) as usize, |m, i| {
+                m.counters.get(i).map_or(0, |c| c.current)
+            }),
+        }
+    }
+
+    /// `words` consecutive timer or counter values from `at`, the first the upper word.
+    fn box_words(&self, words: u32, at: usize, get: impl Fn(&Self, usize) -> u16) -> u32 {
+        let hi = u32::from(get(self, at));
+        if words == 1 {
+            hi
+        } else {
+            (hi << 16) | u32::from(get(self, at + 1))
         }
     }
 
@@ -191,6 +307,26 @@ impl OpenNet {
                 for i in 0..(words * 16) as usize {
                     if let Some(b) = bits.get_mut(start + i) {
                         *b = value >> i & 1 == 1;
+                    }
+                }
+            }
+            // A timer or counter as a destination takes the value as its preset (spec §4.3); a
+            // pair keeps its upper word in the lower number, as registers do.
+            Word::Timer { n, .. } | Word::Counter { n, .. } => {
+                let timer = matches!(w, Word::Timer { .. });
+                let at = (n + offset) as usize;
+                let parts: &[(usize, u16)] = if words == 1 {
+                    &[(at, value as u16)]
+                } else {
+                    &[(at, (value >> 16) as u16), (at + 1, value as u16)]
+                };
+                for &(i, v) in parts {
+                    if timer {
+                        if let Some(t) = self.timers.get_mut(i) {
+                            t.preset = v;
+                        }
+                    } else if let Some(c) = self.counters.get_mut(i) {
+                        c.preset = v;
                     }
                 }
             }
@@ -257,14 +393,367 @@ impl OpenNet {
         });
     }
 
+    /// The scan's start (spec §3 step 1): inputs, the clocks sampled at t = tick × scan_ms.
     fn refresh(&mut self) {
         self.input_image.clone_from(&self.inputs);
-        self.special[2] = self.tick == 0;
-        self.special[3] = self.tick % 100 < 50;
-        self.special[4] = self.tick % 10 < 5;
+        let (t, k) = (self.time, self.tick);
+        self.special[M8120] = k == 0;
+        self.special[M8121] = t.early_half(k, 1000);
+        self.special[M8122] = t.early_half(k, 100);
+        self.special[M8123] = t.early_half(k, 10);
+        self.special[M8125] = true;
         self.rlo = false;
+        self.mc = true;
         self.blocks.clear();
         self.branches.clear();
+        self.marks.fill(Mark::NotReached);
+    }
+
+    /// A preset or compared value now.
+    fn value(&self, v: Value) -> u16 {
+        match v {
+            Value::Const(c) => c,
+            Value::Reg(n) => self.d.get(n as usize).copied().unwrap_or(0),
+        }
+    }
+
+    /// LOD's effect on the stacks and RLO, for a contact that reads `x`.
+    #[inline(always)]
+    fn load_contact(&mut self, index: usize, x: bool) {
+        if self.program.opens.get(index).copied().unwrap_or(true) {
+            self.blocks.clear();
+            self.branches.clear();
+        } else {
+            Self::push(&mut self.blocks, self.rlo);
+        }
+        self.rlo = x;
+    }
+
+    #[inline(always)]
+    fn sotu(&mut self, m: u32) {
+        self.rlo = self.edges.rose(m as usize, self.rlo && self.mc);
+    }
+
+    /// SOTD: with MC = 0 it gives 0 and forgets (no falling edge is seen, spec §5.12).
+    #[inline(always)]
+    fn sotd(&mut self, m: u32) {
+        if self.mc {
+            self.rlo = self.edges.fell(m as usize, self.rlo);
+        } else {
+            self.edges.rose(m as usize, false);
+            self.rlo = false;
+        }
+    }
+
+    /// The instructions of the PLC's control: contacts that compare, timers, counters, shift
+    /// registers, the comparisons and word instructions, MCS/MCR and JMP/JEND. The executor
+    /// and the fast loop both run them here; `record` keeps the REP cycles and the box's
+    /// state before for the explanation. Returns where a taken jump continues.
+    #[inline(always)]
+    pub(crate) fn act(&mut self, index: usize, op: Op, record: bool) -> Option<u32> {
+        let input = self.rlo && self.mc;
+        match op {
+            Op::Compare {
+                counter,
+                n,
+                value,
+                at_least,
+            } => {
+                let x = if counter {
+                    self.counters.get(n as usize).map_or(0, |c| c.current)
+                } else {
+                    self.d.get(n as usize).copied().unwrap_or(0)
+                };
+                let v = self.value(value);
+                self.load_contact(index, if at_least { x >= v } else { x == v });
+            }
+            Op::Timer { kind, n, preset } => {
+                let scan_ms = self.time.scan_ms;
+                let preset_now = match preset {
+                    Value::Reg(_) => Some(self.value(preset)),
+                    Value::Const(_) => None,
+                };
+                let t = self.timers.get_mut(n as usize)?;
+                if record {
+                    self.box_before = (t.current, t.output);
+                }
+                if let Some(p) = preset_now {
+                    t.preset = p;
+                }
+                if !input {
+                    *t = TimerState {
+                        preset: t.preset,
+                        current: t.preset,
+                        ..TimerState::default()
+                    };
+                } else {
+                    if t.running {
+                        let (units, left) = accumulate(t.elapsed_ms, scan_ms, kind.increment_ms());
+                        t.current = u64::from(t.current).saturating_sub(units) as u16;
+                        t.elapsed_ms = left;
+                    } else {
+                        // The first powered execution starts timing and counts no time.
+                        t.running = true;
+                        t.current = t.preset;
+                        t.elapsed_ms = 0;
+                    }
+                    t.output = t.current == 0;
+                }
+            }
+            Op::Counter {
+                kind,
+                n,
+                preset,
+                pulses,
+            } => {
+                // The inputs in program order: the last is RLO, the others come off the stack.
+                let last = self.rlo;
+                let second = self.blocks.pop().unwrap_or(false);
+                let (a, b, c) = if kind == CounterKind::Cnt {
+                    (second, last, false)
+                } else {
+                    (self.blocks.pop().unwrap_or(false), second, last)
+                };
+                let preset_now = match preset {
+                    Value::Reg(_) => Some(self.value(preset)),
+                    Value::Const(_) => None,
+                };
+                let p = pulses as usize;
+                if record {
+                    self.legs = [a, b, c];
+                    if let Some(cn) = self.counters.get(n as usize) {
+                        self.box_before = (cn.current, cn.output);
+                    }
+                }
+                let mc = self.mc;
+                let rises = if mc {
+                    match kind {
+                        CounterKind::Cnt | CounterKind::Cud => (self.pulses.rose(p, b), false),
+                        CounterKind::Cdp => (self.pulses.rose(p, b), self.pulses.rose(p + 1, c)),
+                    }
+                } else {
+                    // MC off: the memories forget, so a pulse on when MC returns counts.
+                    self.pulses.rose(p, false);
+                    if kind == CounterKind::Cdp {
+                        self.pulses.rose(p + 1, false);
+                    }
+                    (false, false)
+                };
+                let cn = self.counters.get_mut(n as usize)?;
+                if let Some(v) = preset_now {
+                    cn.preset = v;
+                }
+                if !mc {
+                    cn.output = false;
+                    return None;
+                }
+                match kind {
+                    CounterKind::Cnt => {
+                        if a {
+                            cn.current = 0;
+                            cn.output = false;
+                        } else {
+                            if rises.0 && cn.current < cn.preset {
+                                cn.current += 1;
+                            }
+                            cn.output = cn.current >= cn.preset;
+                        }
+                    }
+                    CounterKind::Cdp | CounterKind::Cud => {
+                        if a {
+                            cn.current = cn.preset;
+                        } else {
+                            let (up, down) = if kind == CounterKind::Cdp {
+                                rises
+                            } else {
+                                (rises.0 && c, rises.0 && !c)
+                            };
+                            if up && !down {
+                                cn.current = cn.current.wrapping_add(1);
+                            } else if down && !up {
+                                cn.current = cn.current.wrapping_sub(1);
+                            }
+                        }
+                        cn.output = cn.current == 0;
+                    }
+                }
+            }
+            Op::ShiftRegister {
+                down,
+                first,
+                len,
+                pulses,
+            } => {
+                let data = self.rlo;
+                let pulse = self.blocks.pop().unwrap_or(false);
+                let reset = self.blocks.pop().unwrap_or(false);
+                if record {
+                    self.legs = [reset, pulse, data];
+                }
+                if !self.mc {
+                    self.pulses.rose(pulses as usize, false);
+                    return None;
+                }
+                let rise = self.pulses.rose(pulses as usize, pulse);
+                let (from, to) = (first as usize, (first + len) as usize);
+                let bits = self.r.get_mut(from..to)?;
+                if reset {
+                    bits.fill(false);
+                } else if rise {
+                    let top = bits.len() - 1;
+                    if down {
+                        bits.copy_within(1.., 0);
+                        bits[top] = data;
+                    } else {
+                        bits.copy_within(..top, 1);
+                        bits[0] = data;
+                    }
+                }
+            }
+            Op::WordCompare {
+                rel,
+                ty,
+                a,
+                b,
+                c,
+                dst: (area, at),
+                dst_repeat,
+                rep,
+            } if input => {
+                let w = ty.words();
+                for k in 0..u32::from(rep) {
+                    let (ao, bo) = (Self::offset(&a, w, k), Self::offset(&b, w, k));
+                    let x = ty.value(self.read_word(&a, w, ao));
+                    let y = ty.value(self.read_word(&b, w, bo));
+                    let z = ty.value(self.read_word(&c, w, Self::offset(&c, w, k)));
+                    let on = rel.holds(x, y, z);
+                    let point = at + if dst_repeat { k } else { 0 };
+                    self.set_bit(Bit::Point(area, point), on);
+                    if record {
+                        self.last_cycles.push(Cycle {
+                            exact: z,
+                            stored: u32::from(on),
+                            dst_at: point - at,
+                            ..Cycle::read(x, y, ao, bo)
+                        });
+                    }
+                }
+            }
+            Op::WordLogic {
+                op: logic,
+                ty,
+                a,
+                b,
+                dst,
+                rep,
+            } if input => {
+                let w = ty.words();
+                for k in 0..u32::from(rep) {
+                    let (ao, bo, dof) = (
+                        Self::offset(&a, w, k),
+                        Self::offset(&b, w, k),
+                        Self::offset(&dst, w, k),
+                    );
+                    let x = self.read_word(&a, w, ao);
+                    let y = self.read_word(&b, w, bo);
+                    let v = match logic {
+                        Logic::And => x & y,
+                        Logic::Or => x | y,
+                        Logic::Xor => x ^ y,
+                    };
+                    self.write_word(&dst, w, dof, v);
+                    if record {
+                        self.last_cycles.push(Cycle {
+                            stored: v,
+                            dst_at: dof,
+                            ..Cycle::read(i64::from(x), i64::from(y), ao, bo)
+                        });
+                    }
+                }
+            }
+            Op::Shift {
+                left,
+                ty,
+                word,
+                by,
+            } if input => {
+                let w = ty.words();
+                let bits = ty.bits();
+                let by = u32::from(by);
+                let old = self.read_word(&word, w, 0);
+                let mask = if bits == 32 { u32::MAX } else { (1 << bits) - 1 };
+                let (new, out) = if left {
+                    ((old << by) & mask, old >> (bits - by) & 1)
+                } else {
+                    (old >> by, old >> (by - 1) & 1)
+                };
+                self.write_word(&word, w, 0, new);
+                self.special[M8003] = out == 1;
+                if record {
+                    self.last_cycles.push(Cycle {
+                        stored: new,
+                        ..Cycle::read(i64::from(old), i64::from(by), 0, 0)
+                    });
+                }
+            }
+            Op::Convert {
+                to_bcd,
+                ty,
+                src,
+                dst,
+                rep,
+            } if input => {
+                let w = ty.words();
+                for k in 0..u32::from(rep) {
+                    let (so, dof) = (Self::offset(&src, w, k), Self::offset(&dst, w, k));
+                    let v = self.read_word(&src, w, so);
+                    let digits = 4 * w;
+                    let result = if to_bcd {
+                        (u64::from(v) < 10u64.pow(digits))
+                            .then(|| crate::machine::plc::to_bcd(u64::from(v)))
+                            .ok_or("bcd_range")
+                    } else {
+                        crate::machine::plc::bcd_value(v, digits)
+                            .map(|x| x as u32)
+                            .ok_or("bcd_digit")
+                    };
+                    match result {
+                        Ok(out) => self.write_word(&dst, w, dof, out),
+                        Err(kind) => self.record_error_at(index, kind),
+                    }
+                    if record {
+                        self.last_cycles.push(Cycle {
+                            stored: result.unwrap_or(0),
+                            error: result.err(),
+                            dst_at: dof,
+                            ..Cycle::read(i64::from(v), 0, so, 0)
+                        });
+                    }
+                }
+            }
+            Op::Mcs => self.mc = input,
+            Op::Mcr => self.mc = true,
+            Op::Jmp(to) if input && (to as usize) < self.marks.len() => {
+                self.marks[index + 1..to as usize].fill(Mark::Jumped);
+                return Some(to);
+            }
+            _ => {}
+        }
+        None
+    }
+
+    /// What instruction `index` did, for the code view: run with MC off, or the power after it.
+    #[inline(always)]
+    fn mark(&mut self, index: usize, mc: bool) {
+        if let Some(m) = self.marks.get_mut(index) {
+            *m = if !mc {
+                Mark::MasterOff
+            } else if self.rlo {
+                Mark::On
+            } else {
+                Mark::Off
+            };
+        }
     }
 
     fn push(stack: &mut Vec<bool>, v: bool) {
@@ -276,19 +765,16 @@ impl OpenNet {
     fn execute(&mut self) {
         let index = self.pc as usize;
         let op = self.program.instrs[index].op;
-        let previous_output = index > 0 && is_output(&self.program.instrs[index - 1].op);
         self.last_acted = false;
         self.last_cycles.clear();
+        // The record is of this instruction alone (the fast loop keeps none).
+        self.box_before = (0, false);
+        self.legs = [false; 3];
+        let mc = self.mc;
+        let input = self.rlo && mc;
+        let mut next = self.pc + 1;
         match op {
-            Op::Lod(b, neg) => {
-                if index == 0 || previous_output {
-                    self.blocks.clear();
-                    self.branches.clear();
-                } else {
-                    Self::push(&mut self.blocks, self.rlo);
-                }
-                self.rlo = self.bit(b) != neg;
-            }
+            Op::Lod(b, neg) => self.load_contact(index, self.bit(b) != neg),
             Op::And(b, neg) => self.rlo &= self.bit(b) != neg,
             Op::Or(b, neg) => self.rlo |= self.bit(b) != neg,
             Op::AndLod => {
@@ -302,31 +788,21 @@ impl OpenNet {
             Op::Bps => Self::push(&mut self.branches, self.rlo),
             Op::Brd => self.rlo = self.branches.last().copied().unwrap_or(false),
             Op::Bpp => self.rlo = self.branches.pop().unwrap_or(false),
-            Op::Sotu(m) => {
-                let mem = &mut self.edges[m as usize];
-                let old = self.rlo;
-                self.rlo = old && !*mem;
-                *mem = old;
-            }
-            Op::Sotd(m) => {
-                let mem = &mut self.edges[m as usize];
-                let old = self.rlo;
-                self.rlo = !old && *mem;
-                *mem = old;
-            }
-            Op::Out(b, neg) => self.set_bit(b, self.rlo != neg),
+            Op::Sotu(m) => self.sotu(m),
+            Op::Sotd(m) => self.sotd(m),
+            Op::Out(b, neg) => self.set_bit(b, input != neg),
             Op::Set(b) => {
-                if self.rlo {
+                if input {
                     self.set_bit(b, true);
                 }
             }
             Op::Rst(b) => {
-                if self.rlo {
+                if input {
                     self.set_bit(b, false);
                 }
             }
             Op::End => {}
-            Op::Mov { ty, src, dst, rep } if self.rlo => {
+            Op::Mov { ty, src, dst, rep } if input => {
                 self.last_acted = true;
                 let w = ty.words();
                 for c in 0..u32::from(rep) {
@@ -354,7 +830,7 @@ impl OpenNet {
                 b,
                 dst,
                 rep,
-            } if self.rlo => {
+            } if input => {
                 self.last_acted = true;
                 let w = ty.words();
                 let dst_block = match op {
@@ -423,7 +899,7 @@ impl OpenNet {
                     self.special[M8003] = carry;
                 }
             }
-            Op::Step { up, ty, reg } if self.rlo => {
+            Op::Step { up, ty, reg } if input => {
                 self.last_acted = true;
                 let word = Word::Reg {
                     n: reg,
@@ -436,11 +912,18 @@ impl OpenNet {
                 self.write_word(&word, w, 0, next);
             }
             Op::Mov { .. } | Op::Arith { .. } | Op::Step { .. } => {}
+            _ => {
+                self.last_acted = input;
+                if let Some(to) = self.act(index, op, true) {
+                    next = to;
+                }
+            }
         }
+        self.mark(index, mc);
         self.last = Some(index as u32);
         self.steps += 1;
         self.step += 1;
-        self.pc += 1;
+        self.pc = next;
         if op == Op::End || self.pc as usize >= self.program.instrs.len() {
             self.pc = 0;
             self.step = 0;
@@ -476,12 +959,6 @@ impl crate::machine::ScanSteps for OpenNet {
     }
 }
 
-pub fn is_output(op: &Op) -> bool {
-    matches!(
-        op,
-        Op::Out(..) | Op::Set(_) | Op::Rst(_) | Op::Mov { .. } | Op::Arith { .. } | Op::Step { .. }
-    )
-}
 
 #[cfg(test)]
 mod tests {

@@ -13,7 +13,13 @@ use crate::ui::panels::DialectPanel;
 use crate::ui::theme::palette;
 
 pub fn panels() -> Vec<Box<dyn DialectPanel>> {
-    vec![Box::new(DataPanel::default()), Box::new(LogicPanel)]
+    vec![
+        Box::new(crate::machine::plc::panel::BoxesPanel {
+            rows: |d: &Debugger| d.machine_as::<OpenNet>().map(OpenNet::timer_rows),
+        }),
+        Box::new(DataPanel::default()),
+        Box::new(LogicPanel),
+    ]
 }
 
 /// The type of the instruction about to run (or last run), which picks the reading.
@@ -26,9 +32,13 @@ fn current_type(m: &OpenNet) -> Option<(Ty, usize, &'static str)> {
         .find_map(|(instr, when)| {
             let instr = instr?;
             match instr.op {
-                Op::Mov { ty, .. } | Op::Arith { ty, .. } | Op::Step { ty, .. } => {
-                    Some((ty, instr.line, when))
-                }
+                Op::Mov { ty, .. }
+                | Op::Arith { ty, .. }
+                | Op::Step { ty, .. }
+                | Op::WordCompare { ty, .. }
+                | Op::WordLogic { ty, .. }
+                | Op::Shift { ty, .. }
+                | Op::Convert { ty, .. } => Some((ty, instr.line, when)),
                 _ => None,
             }
         })
@@ -101,7 +111,7 @@ impl DialectPanel for DataPanel {
                 );
                 ui.separator();
                 // Bit areas in groups of eight, with a word reading from any point.
-                for area in [Area::I, Area::Q, Area::M] {
+                for area in [Area::I, Area::Q, Area::M, Area::R] {
                     let groups: Vec<u32> = {
                         let mut g: Vec<u32> = m
                             .program
@@ -145,15 +155,17 @@ impl DialectPanel for DataPanel {
                     let label = ui.label("Word from");
                     ui.add(egui::TextEdit::singleline(&mut self.word_from).desired_width(60.0))
                         .labelled_by(label.id);
-                    if let Some(loc) = super::view::parse_name(&self.word_from)
-                        && loc.space != SPECIAL_SPACE
-                        && loc.space != super::view::D
-                    {
+                    let area = super::view::parse_name(&self.word_from).and_then(|loc| {
                         let area = match loc.space {
                             super::view::I => Area::I,
                             super::view::Q => Area::Q,
-                            _ => Area::M,
+                            super::view::M => Area::M,
+                            super::view::R => Area::R,
+                            _ => return None,
                         };
+                        Some((area, loc))
+                    });
+                    if let Some((area, loc)) = area {
                         let word = super::program::Word::Bits {
                             area,
                             index: loc.index,
@@ -238,8 +250,16 @@ impl DialectPanel for LogicPanel {
                 };
                 ui.monospace(format!("block stack:  {}", stack(&m.blocks)));
                 ui.monospace(format!("branch stack: {}", stack(&m.branches)));
-                if !m.edges.is_empty() {
-                    ui.monospace(format!("SOTU/SOTD memories: {}", stack(&m.edges)));
+                ui.monospace(format!(
+                    "MC = {}{}",
+                    u8::from(m.mc),
+                    if m.mc { "" } else { " (in an MCS area that is off: outputs off)" }
+                ));
+                if !m.edges.0.is_empty() {
+                    ui.monospace(format!("SOTU/SOTD memories: {}", stack(&m.edges.0)));
+                }
+                if !m.pulses.0.is_empty() {
+                    ui.monospace(format!("counter/SFR pulse memories: {}", stack(&m.pulses.0)));
                 }
                 ui.monospace(format!("scan {}, instruction {}", m.tick, m.step));
             });

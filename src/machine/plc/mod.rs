@@ -112,6 +112,30 @@ pub fn accumulate(ms: u32, scan_ms: u32, unit_ms: u32) -> (u64, u32) {
     (total / unit, (total % unit) as u32)
 }
 
+/// The value of the low `n` BCD digits of `x`, or None if one is not a decimal digit.
+pub fn bcd_value(x: u32, n: u32) -> Option<u64> {
+    let mut v = 0u64;
+    for i in (0..n).rev() {
+        let d = x >> (4 * i) & 0xF;
+        if d > 9 {
+            return None;
+        }
+        v = v * 10 + u64::from(d);
+    }
+    Some(v)
+}
+
+/// The BCD pattern of the low 8 decimal digits of `v`.
+pub fn to_bcd(v: u64) -> u32 {
+    let mut v = v % 100_000_000;
+    let mut out = 0u32;
+    for i in 0..8 {
+        out |= ((v % 10) as u32) << (4 * i);
+        v /= 10;
+    }
+    out
+}
+
 /// Counter inputs at the previous execution, for counting on off→on changes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct CounterInputs {
@@ -151,16 +175,49 @@ pub struct BoxRow {
     pub done: bool,
     /// Source line of the box.
     pub line: usize,
+    /// A timer that counts down from its preset (OpenNet); None for one that counts up.
+    pub countdown: Option<Countdown>,
+}
+
+/// The state of a count-down timer the panel turns into time: where it is toward its next
+/// increment and the scan time.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Countdown {
+    pub running: bool,
+    pub elapsed_ms: u32,
+    pub scan_ms: u32,
 }
 
 impl BoxRow {
-    /// Progress toward the preset, 0–1 (a preset of 0 is reached at once).
+    /// Progress toward the preset, 0–1 (a preset of 0 is reached at once). A count-down
+    /// timer has gone the way from its preset down to its current value.
     pub fn progress(&self) -> f32 {
         match (self.value, self.preset) {
-            (Some(v), Some(p)) if p > 0 => (v as f32 / p as f32).min(1.0),
+            (Some(v), Some(p)) if p > 0 => {
+                let done = if self.countdown.is_some() {
+                    p.saturating_sub(v)
+                } else {
+                    v
+                };
+                (done as f32 / p as f32).min(1.0)
+            }
             (Some(_), Some(_)) => 1.0,
             _ => 0.0,
         }
+    }
+
+    /// A count-down timer's time so far and the scans until its output turns on (None when
+    /// not timing or already on): (elapsed ms, scans to go).
+    pub fn elapsed(&self) -> Option<(u64, Option<u64>)> {
+        let c = self.countdown?;
+        let (unit, value, preset) = (u64::from(self.unit_ms?), self.value?, self.preset?);
+        if !c.running {
+            return Some((0, None));
+        }
+        let elapsed = preset.saturating_sub(value) * unit + u64::from(c.elapsed_ms);
+        let left = (value * unit).saturating_sub(u64::from(c.elapsed_ms));
+        let scans = (value > 0).then(|| left.div_ceil(u64::from(c.scan_ms.max(1))));
+        Some((elapsed, scans))
     }
 
     /// A value in the box's terms: "2.9 s" for a 100 ms timer holding 29, "29" for a counter.
@@ -168,9 +225,13 @@ impl BoxRow {
         match self.unit_ms {
             Some(unit) => {
                 let ms = v * u64::from(unit);
-                let decimals = if unit >= 100 { 1 } else { 2 };
-                let per = u64::from(unit);
-                format!("{}.{:0decimals$} s", ms / 1000, (ms % 1000) / per)
+                let decimals = match unit {
+                    100.. => 1,
+                    10.. => 2,
+                    _ => 3,
+                };
+                let scale = 10u64.pow(3 - decimals as u32);
+                format!("{}.{:0decimals$} s", ms / 1000, (ms % 1000) / scale)
             }
             None => v.to_string(),
         }
@@ -184,7 +245,9 @@ impl BoxRow {
                 self.value_at, self.raw
             )),
             (_, None) => Some("the preset is not BCD (SP75)".to_string()),
-            (Some(v), _) if v >= self.max => Some("at its maximum".to_string()),
+            (Some(v), _) if v >= self.max && self.countdown.is_none() => {
+                Some("at its maximum".to_string())
+            }
             _ => None,
         }
     }
@@ -263,6 +326,7 @@ mod tests {
             unit_ms: Some(100),
             done: false,
             line: 2,
+            countdown: None,
         };
         assert_eq!(row.amount(29), "2.9 s");
         assert!((row.progress() - 29.0 / 30.0).abs() < 1e-6);
@@ -280,9 +344,30 @@ mod tests {
         assert!(bad.note().is_some_and(|n| n.contains("A0 is not BCD")));
         let full = BoxRow {
             value: Some(9999),
-            ..row
+            ..row.clone()
         };
         assert_eq!(full.note().as_deref(), Some("at its maximum"));
+        // OpenNet's TIM preset 50 at 30 ms scans, 12 left and 20 ms toward the next tenth:
+        // 3.8 s gone (38 tenths + 20 ms), 1.2 s − 20 ms = 1180 ms to go = 40 scans (39.3 up).
+        let down = BoxRow {
+            preset: Some(50),
+            value: Some(12),
+            countdown: Some(Countdown {
+                running: true,
+                elapsed_ms: 20,
+                scan_ms: 30,
+            }),
+            ..row
+        };
+        assert_eq!(down.elapsed(), Some((3820, Some(40))));
+        assert!((down.progress() - 38.0 / 50.0).abs() < 1e-6);
+        assert_eq!(down.note(), None);
+        let ms = BoxRow {
+            unit_ms: Some(1),
+            ..down
+        };
+        assert_eq!(ms.amount(5), "0.005 s");
+        assert_eq!(ms.amount(1234), "1.234 s");
     }
 
     #[test]

@@ -66,7 +66,13 @@ fn box_row(ui: &mut egui::Ui, row: &BoxRow, p: &crate::ui::theme::Palette, out: 
         out.push(Command::ShowLine(row.line));
     }
     let preset = match row.preset {
-        Some(v) if row.preset_from.starts_with(['K', 'k']) => row.amount(v),
+        // A constant preset: its time; a register's: where it came from too.
+        Some(v)
+            if row.preset_from.starts_with(['K', 'k'])
+                || row.preset_from.starts_with(|c: char| c.is_ascii_digit()) =>
+        {
+            row.amount(v)
+        }
         Some(v) => format!("{} = {}", row.preset_from, row.amount(v)),
         None => format!("{} (not BCD)", row.preset_from),
     };
@@ -81,12 +87,24 @@ fn box_row(ui: &mut egui::Ui, row: &BoxRow, p: &crate::ui::theme::Palette, out: 
     if let Some(note) = &note {
         current.on_hover_text(note);
     }
-    ui.add(
+    let bar = ui.add(
         egui::ProgressBar::new(row.progress())
             .desired_width(90.0)
             .desired_height(10.0),
-    )
-    .on_hover_text(format!("{:.0} % of the preset", row.progress() * 100.0));
+    );
+    match row.elapsed() {
+        Some((ms, scans)) => {
+            let to_go = match scans {
+                Some(n) => format!("{n} scans to go"),
+                None if row.done => "done".to_string(),
+                None => "not timing".to_string(),
+            };
+            bar.on_hover_text(format!("{ms} ms elapsed, {to_go}"));
+        }
+        None => {
+            bar.on_hover_text(format!("{:.0} % of the preset", row.progress() * 100.0));
+        }
+    }
     let chip = ui.add(
         egui::Button::new(RichText::new(&row.status).size(12.0).color(if row.done {
             egui::Color32::WHITE
@@ -108,5 +126,13 @@ fn box_row(ui: &mut egui::Ui, row: &BoxRow, p: &crate::ui::theme::Palette, out: 
     chip.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Label, true, &label));
     if let Some(note) = note {
         ui.label(RichText::new(note).size(12.0).color(p.error));
+    } else if let Some((ms, scans)) = row.elapsed() {
+        // A count-down timer: the time so far and the scans until its output turns on.
+        let text = match scans {
+            Some(n) => format!("{ms} ms elapsed, {n} scans to go"),
+            None if row.done => format!("{ms} ms elapsed"),
+            None => "not timing".to_string(),
+        };
+        ui.label(RichText::new(text).size(12.0).color(p.dim));
     }
 }
