@@ -1615,3 +1615,28 @@ fn an_opennet_warning_is_listed_and_the_program_runs() {
     h.run_steps(2);
     assert_eq!(h.state().debugger.machine().steps(), 1, "F10 stepped");
 }
+
+/// OpenNet's scan time is in its settings window; applying it restarts the program on it.
+#[test]
+fn the_opennet_scan_time_is_a_setting() {
+    let opennet = servoscope::machine::registry::by_name("opennet").expect("registered");
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.load_program_as(opennet, "t.opennet", "LOD M8125\nTIM T0 10\n");
+    let mut h = harness(app);
+    h.state_mut().apply(
+        &egui::Context::default(),
+        servoscope::ui::Command::OpenSettings,
+    );
+    h.run_steps(2);
+    h.get_by_label("IDEC OpenNet settings");
+    h.get_by_label("Scan time (ms)");
+    if let Some(draft) = h.state_mut().settings.draft.as_mut() {
+        draft.insert("scan_ms".into(), 50.0);
+    }
+    h.run_steps(1);
+    h.get_by_label("Apply").click();
+    h.run_steps(2);
+    assert_eq!(h.state().debugger.settings()["scan_ms"], 50.0);
+    assert_eq!(h.state().debugger.machine().tick_micros(), 50_000);
+    assert_eq!(h.state().session().settings["scan_ms"], 50.0);
+}

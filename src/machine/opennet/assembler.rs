@@ -576,7 +576,8 @@ fn instruction(ts: &[Token], pass: &mut Pass, suggester: &Suggester) -> (Option<
             "RST" => Op::Rst(bit(&rest[0], true, pass)?),
             "END" => Op::End,
             "NOP" => Op::Nop,
-            "MCS" => Op::Mcs,
+            // The MCR is found once every line is read.
+            "MCS" => Op::Mcs(u32::MAX),
             "MCR" => Op::Mcr,
             // The target is resolved once every line is read.
             "JMP" => Op::Jmp(u32::MAX),
@@ -868,14 +869,17 @@ fn rungs(seq: &[(usize, &'static str)], end_line: Option<usize>) -> Vec<(usize, 
     errors
 }
 
-/// Each JMP's JEND (the first after it) and whether each LOD starts a rung.
+/// Each JMP's JEND and each MCS's MCR (the first after it), and whether each LOD starts a
+/// rung.
 fn resolve(program: &mut Program) {
     let n = program.instrs.len();
-    let mut next_jend = u32::MAX;
+    let (mut next_jend, mut next_mcr) = (u32::MAX, u32::MAX);
     for i in (0..n).rev() {
         match program.instrs[i].op {
             Op::Jend => next_jend = i as u32,
+            Op::Mcr => next_mcr = i as u32,
             Op::Jmp(_) => program.instrs[i].op = Op::Jmp(next_jend),
+            Op::Mcs(_) => program.instrs[i].op = Op::Mcs(next_mcr),
             _ => {}
         }
     }
@@ -889,6 +893,10 @@ fn resolve(program: &mut Program) {
         }
     }
     program.opens = opens;
+    program.marks_code = program
+        .instrs
+        .iter()
+        .any(|i| matches!(i.op, Op::Mcs(_) | Op::Jmp(_)));
 }
 
 /// One warning per MICRO3 relay read and never written (spec §1).

@@ -154,7 +154,7 @@ pub fn explain(m: &OpenNet) -> Option<String> {
                 first + len - 1
             )
         }
-        Op::Mcs => format!("{text}: MC = {}", u8::from(m.mc)),
+        Op::Mcs(_) => format!("{text}: MC = {}", u8::from(m.mc)),
         Op::Mcr => format!("{text}: MC = 1"),
         Op::Jmp(to) => {
             let line = m.program.instrs.get(to as usize).map_or(0, |i| i.line);

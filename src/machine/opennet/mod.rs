@@ -56,15 +56,14 @@ pub struct CounterState {
     pub output: bool,
 }
 
-/// What an instruction did in this scan, for the code view (spec §5.12's dimming).
+/// What switched an instruction off in this scan, for the code view (spec §5.12's dimming):
+/// set by the MCS or JMP that decides it, so the fast loop marks nothing per instruction.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[repr(u8)]
 pub enum Mark {
     #[default]
     NotReached,
-    On,
-    Off,
-    /// Ran with MC = 0: every output input was off.
+    /// Runs with MC = 0 (after an MCS that is off, up to its MCR): every output's input is off.
     MasterOff,
     /// Skipped by a taken JMP.
     Jumped,
@@ -396,17 +395,22 @@ impl OpenNet {
     /// The scan's start (spec §3 step 1): inputs, the clocks sampled at t = tick × scan_ms.
     fn refresh(&mut self) {
         self.input_image.clone_from(&self.inputs);
-        let (t, k) = (self.time, self.tick);
-        self.special[M8120] = k == 0;
-        self.special[M8121] = t.early_half(k, 1000);
-        self.special[M8122] = t.early_half(k, 100);
-        self.special[M8123] = t.early_half(k, 10);
+        self.special[M8120] = self.tick == 0;
+        // The clocks are on in the first half of each period: one division for the three
+        // (each period divides the next), as this runs every scan.
+        let phase = self.time.phase(self.tick, 1000) as u32;
+        self.special[M8121] = phase < 500;
+        self.special[M8122] = phase % 100 < 50;
+        self.special[M8123] = phase % 10 < 5;
         self.special[M8125] = true;
         self.rlo = false;
         self.mc = true;
         self.blocks.clear();
         self.branches.clear();
-        self.marks.fill(Mark::NotReached);
+        // Only an MCS that was off or a taken jump marks anything.
+        if self.program.marks_code {
+            self.marks.fill(Mark::NotReached);
+        }
     }
 
     /// A preset or compared value now.
@@ -731,7 +735,13 @@ impl OpenNet {
                     }
                 }
             }
-            Op::Mcs => self.mc = input,
+            Op::Mcs(end) => {
+                self.mc = input;
+                // Until its MCR every instruction runs with MC = 0 (no jump is taken then).
+                if !input && (end as usize) < self.marks.len() {
+                    self.marks[index + 1..end as usize].fill(Mark::MasterOff);
+                }
+            }
             Op::Mcr => self.mc = true,
             Op::Jmp(to) if input && (to as usize) < self.marks.len() => {
                 self.marks[index + 1..to as usize].fill(Mark::Jumped);
@@ -740,20 +750,6 @@ impl OpenNet {
             _ => {}
         }
         None
-    }
-
-    /// What instruction `index` did, for the code view: run with MC off, or the power after it.
-    #[inline(always)]
-    fn mark(&mut self, index: usize, mc: bool) {
-        if let Some(m) = self.marks.get_mut(index) {
-            *m = if !mc {
-                Mark::MasterOff
-            } else if self.rlo {
-                Mark::On
-            } else {
-                Mark::Off
-            };
-        }
     }
 
     fn push(stack: &mut Vec<bool>, v: bool) {
@@ -919,12 +915,11 @@ impl OpenNet {
                 }
             }
         }
-        self.mark(index, mc);
         self.last = Some(index as u32);
         self.steps += 1;
         self.step += 1;
         self.pc = next;
-        if op == Op::End || self.pc as usize >= self.program.instrs.len() {
+        if matches!(op, Op::End) || self.pc as usize >= self.program.instrs.len() {
             self.pc = 0;
             self.step = 0;
             self.tick += 1;

@@ -367,7 +367,8 @@ pub enum Op {
         dst: Word,
         rep: u8,
     },
-    Mcs,
+    /// The index of the MCR that closes its area.
+    Mcs(u32),
     Mcr,
     /// The index of the JEND it continues at.
     Jmp(u32),
@@ -416,6 +417,8 @@ pub struct Program {
     pub pulses: u32,
     /// Whether each instruction's LOD (or compare contact) starts a rung: the stacks empty.
     pub opens: Vec<bool>,
+    /// Whether the program has an MCS or a JMP, which mark the code they switch off.
+    pub marks_code: bool,
     /// Timers and counters the program names anywhere, ascending.
     pub used_timers: Vec<u32>,
     pub used_counters: Vec<u32>,

@@ -195,7 +195,7 @@ pub fn static_writes(op: &Op, f: &mut dyn FnMut(Loc)) {
             word_locs(&word, ty.words(), 0, f);
             f(Loc::new(SPECIAL_SPACE, M8003 as u32));
         }
-        Op::Mcs | Op::Mcr => f(Loc::new(LOGIC, 1)),
+        Op::Mcs(_) | Op::Mcr => f(Loc::new(LOGIC, 1)),
         _ => {}
     }
 }
@@ -248,7 +248,7 @@ impl OpenNet {
             | Op::Timer { .. }
             | Op::Counter { .. }
             | Op::ShiftRegister { .. }
-            | Op::Mcs
+            | Op::Mcs(_)
             | Op::Mcr => static_writes(&instr.op, &mut f),
             op if self.last_acted => static_writes(&op, &mut f),
             _ => {}
@@ -482,13 +482,6 @@ impl MachineView for OpenNet {
             .filter_map(|(ins, mark)| {
                 let state = match mark {
                     Mark::NotReached => return None,
-                    // MCR, JEND, NOP and END carry no power: they only ran.
-                    Mark::On if matches!(ins.op, Op::Mcr | Op::Jend | Op::Nop | Op::End) => {
-                        LinePower::Off
-                    }
-                    Mark::On => LinePower::On,
-                    Mark::Off if ins.op.is_output() => LinePower::Skipped,
-                    Mark::Off => LinePower::Off,
                     // An MCS area that is off: everything in it is dimmed.
                     Mark::MasterOff => LinePower::Skipped,
                     Mark::Jumped => LinePower::NotRun,
@@ -502,17 +495,19 @@ impl MachineView for OpenNet {
         let mut notes = Vec::new();
         for (i, ins) in instrs.iter().enumerate() {
             let mark = self.marks.get(i).copied().unwrap_or_default();
+            let ran = mark != Mark::Jumped && (self.tick > 0 || i < self.step as usize);
             match ins.op {
                 Op::Jmp(to) => {
                     let Some(target) = instrs.get(to as usize) else {
                         continue;
                     };
-                    let taken = self.marks.get(i + 1).is_some_and(|m| *m == Mark::Jumped)
-                        || (i + 1 == to as usize && mark == Mark::On);
+                    // A jump straight onto its JEND skips nothing: it shows as not taken.
+                    let taken = self.marks.get(i + 1).is_some_and(|m| *m == Mark::Jumped);
                     let state = match mark {
-                        Mark::NotReached | Mark::Jumped => String::new(),
+                        Mark::Jumped => String::new(),
                         _ if taken => " (taken)".into(),
-                        _ => " (not taken)".into(),
+                        _ if ran => " (not taken)".into(),
+                        _ => String::new(),
                     };
                     notes.push((ins.line, format!("→ JEND line {}{state}", target.line)));
                 }
@@ -526,23 +521,18 @@ impl MachineView for OpenNet {
                         notes.push((ins.line, format!("← JMP line {}", from.join(", "))));
                     }
                 }
-                Op::Mcs if mark != Mark::NotReached && mark != Mark::Jumped => {
-                    let mc_after = mark == Mark::On;
-                    let end = instrs[i..].iter().find(|j| j.op == Op::Mcr).map_or(0, |j| j.line);
-                    notes.push((
-                        ins.line,
-                        if mc_after {
-                            format!("MC on to MCR line {end}")
-                        } else {
-                            format!("MC off: outputs off to MCR line {end}")
-                        },
-                    ));
+                // An area whose MC is off this scan: its code is marked from the MCS on.
+                Op::Mcs(end) => {
+                    let end = instrs.get(end as usize).map_or(0, |j| j.line);
+                    if self.marks.get(i + 1) == Some(&Mark::MasterOff) {
+                        notes.push((ins.line, format!("MC off: outputs off to MCR line {end}")));
+                    }
                 }
-                Op::Timer { n, .. } if mark != Mark::NotReached => {
+                Op::Timer { n, .. } if ran => {
                     let t = self.timers[n as usize];
                     notes.push((ins.line, format!("T{n}.current = {}", t.current)));
                 }
-                Op::Counter { n, .. } if mark != Mark::NotReached => {
+                Op::Counter { n, .. } if ran => {
                     let c = self.counters[n as usize];
                     notes.push((ins.line, format!("C{n}.current = {}", c.current)));
                 }

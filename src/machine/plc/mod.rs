@@ -50,6 +50,7 @@ impl TimeBase {
     }
 
     /// Controller time at the start of scan `tick`, in ms.
+    #[inline]
     pub fn time_ms(self, tick: u64) -> u64 {
         tick.saturating_mul(u64::from(self.scan_ms))
     }
@@ -59,17 +60,20 @@ impl TimeBase {
     }
 
     /// Where scan `tick` starts inside a clock's period of `period_ms`, in ms.
+    #[inline]
     pub fn phase(self, tick: u64, period_ms: u64) -> u64 {
         self.time_ms(tick) % period_ms.max(1)
     }
 
     /// A clock that is off in the first half of each period and on in the second (DL205's
     /// SP3–SP6).
+    #[inline]
     pub fn late_half(self, tick: u64, period_ms: u64) -> bool {
         self.phase(tick, period_ms) >= period_ms / 2
     }
 
     /// A clock that is on in the first half of each period (OpenNet's M8121–M8123).
+    #[inline]
     pub fn early_half(self, tick: u64, period_ms: u64) -> bool {
         !self.late_half(tick, period_ms)
     }

@@ -45,7 +45,7 @@ impl DialectPanel for BoxesPanel {
                     .spacing([10.0, 4.0])
                     .striped(true)
                     .show(ui, |ui| {
-                        for h in ["Box", "Preset", "Current", "", "Done", ""] {
+                        for h in ["Box", "Preset", "Current", "Done", "", ""] {
                             ui.strong(h);
                         }
                         ui.end_row();
@@ -87,24 +87,7 @@ fn box_row(ui: &mut egui::Ui, row: &BoxRow, p: &crate::ui::theme::Palette, out: 
     if let Some(note) = &note {
         current.on_hover_text(note);
     }
-    let bar = ui.add(
-        egui::ProgressBar::new(row.progress())
-            .desired_width(90.0)
-            .desired_height(10.0),
-    );
-    match row.elapsed() {
-        Some((ms, scans)) => {
-            let to_go = match scans {
-                Some(n) => format!("{n} scans to go"),
-                None if row.done => "done".to_string(),
-                None => "not timing".to_string(),
-            };
-            bar.on_hover_text(format!("{ms} ms elapsed, {to_go}"));
-        }
-        None => {
-            bar.on_hover_text(format!("{:.0} % of the preset", row.progress() * 100.0));
-        }
-    }
+    // The lamp before the bar: it stays in view in a narrow pane.
     let chip = ui.add(
         egui::Button::new(RichText::new(&row.status).size(12.0).color(if row.done {
             egui::Color32::WHITE
@@ -124,6 +107,24 @@ fn box_row(ui: &mut egui::Ui, row: &BoxRow, p: &crate::ui::theme::Palette, out: 
         if row.done { "done" } else { "not done" }
     );
     chip.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Label, true, &label));
+    let bar = ui.add(
+        egui::ProgressBar::new(row.progress())
+            .desired_width(90.0)
+            .desired_height(10.0),
+    );
+    match row.elapsed() {
+        Some((ms, scans)) => {
+            let to_go = match scans {
+                Some(n) => format!("{n} scans to go"),
+                None if row.done => "done".to_string(),
+                None => "not timing".to_string(),
+            };
+            bar.on_hover_text(format!("{ms} ms elapsed, {to_go}"));
+        }
+        None => {
+            bar.on_hover_text(format!("{:.0} % of the preset", row.progress() * 100.0));
+        }
+    }
     if let Some(note) = note {
         ui.label(RichText::new(note).size(12.0).color(p.error));
     } else if let Some((ms, scans)) = row.elapsed() {
