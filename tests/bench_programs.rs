@@ -42,7 +42,7 @@ fn the_opennet_ladder_benchmark_is_100_instructions_of_ladder() {
         "8 counters"
     );
     assert_eq!(count(|op| matches!(op, On::WordCompare { .. })), 1, "a CMP");
-    assert_eq!(count(|op| matches!(op, On::Mcs)), 1, "an MCS area");
+    assert_eq!(count(|op| matches!(op, On::Mcs(_))), 1, "an MCS area");
     assert!(
         servoscope::machine::opennet::assembler::assemble(&programs::opennet_program()).is_ok()
     );
