@@ -133,9 +133,9 @@ fn the_code_view_dims_what_mc_and_jumps_switch_off() {
     let power = d.machine().line_power();
     let at = |line: usize| power.iter().find(|(l, _)| *l == line).map(|(_, s)| *s);
     assert_eq!(at(2), None, "the MCS itself ran");
-    assert_eq!(at(3), Some(LinePower::Skipped), "inside the off area");
+    assert_eq!(at(3), Some(LinePower::MasterOff), "inside the off area");
     assert_eq!(at(5), None, "the MCR runs with MC back on");
-    assert_eq!(at(4), Some(LinePower::Skipped));
+    assert_eq!(at(4), Some(LinePower::MasterOff));
     assert_eq!(at(8), None, "the JMP is not taken: nothing dimmed");
     assert_eq!(get(&d, "Q0"), 0);
     assert_eq!(get(&d, "Q1"), 1);

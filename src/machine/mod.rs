@@ -203,6 +203,8 @@ pub enum LinePower {
     /// Not executed in this scan at all: jumped over, an inactive stage, a subroutine not
     /// called.
     NotRun,
+    /// Executed with every output's input forced off (OpenNet's MCS area with MC = 0).
+    MasterOff,
 }
 
 /// A fault as a user reads it.

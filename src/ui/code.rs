@@ -550,11 +550,21 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                     .collect();
                 // Code the scan did not run at all (jumped over, an inactive stage): its text
                 // fades under a veil of the background.
-                let veil = ui.visuals().extreme_bg_color.gamma_multiply(0.6);
+                // Code that ran with its outputs forced off (an MCS area whose MC is 0) fades
+                // less: it still ran.
+                let background = ui.visuals().extreme_bg_color;
                 let veils: Vec<egui::Shape> = power
                     .iter()
-                    .filter(|(_, s)| *s == crate::machine::LinePower::NotRun)
-                    .filter_map(|(l, _)| {
+                    .filter_map(|(l, s)| match s {
+                        crate::machine::LinePower::NotRun => {
+                            Some((l, background.gamma_multiply(0.6)))
+                        }
+                        crate::machine::LinePower::MasterOff => {
+                            Some((l, background.gamma_multiply(0.45)))
+                        }
+                        _ => None,
+                    })
+                    .filter_map(|(l, veil)| {
                         let rect = rows.rect(*l)?;
                         // From the text's first column (it starts at the gutter's edge).
                         let rect = rect
@@ -990,7 +1000,9 @@ fn gutter_ui(
         if let Some((_, state)) = power.iter().find(|(l, _)| *l == line) {
             let colour = match state {
                 crate::machine::LinePower::On => p.bit_on,
-                crate::machine::LinePower::Off | crate::machine::LinePower::Skipped => p.dim,
+                crate::machine::LinePower::Off
+                | crate::machine::LinePower::Skipped
+                | crate::machine::LinePower::MasterOff => p.dim,
                 crate::machine::LinePower::NotRun => egui::Color32::TRANSPARENT,
             };
             let bar = Rect::from_min_max(

@@ -58,7 +58,7 @@ pub fn window(
                 });
             ui.label(
                 RichText::new(format!(
-                    "Applying restarts the program from {} 0: the recorded run came from the old settings.",
+                    "Applying restarts the program from {} 0, inputs off: the recorded run came from the old settings.",
                     dialect.vocabulary.tick
                 ))
                 .small(),

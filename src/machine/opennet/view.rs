@@ -483,7 +483,7 @@ impl MachineView for OpenNet {
                 let state = match mark {
                     Mark::NotReached => return None,
                     // An MCS area that is off: everything in it is dimmed.
-                    Mark::MasterOff => LinePower::Skipped,
+                    Mark::MasterOff => LinePower::MasterOff,
                     Mark::Jumped => LinePower::NotRun,
                 };
                 Some((ins.line, state))

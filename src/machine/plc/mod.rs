@@ -218,7 +218,12 @@ impl BoxRow {
         if !c.running {
             return Some((0, None));
         }
-        let elapsed = preset.saturating_sub(value) * unit + u64::from(c.elapsed_ms);
+        // Once done the time stops at the preset (the remainder keeps turning underneath).
+        let elapsed = if value == 0 {
+            preset * unit
+        } else {
+            preset.saturating_sub(value) * unit + u64::from(c.elapsed_ms)
+        };
         let left = (value * unit).saturating_sub(u64::from(c.elapsed_ms));
         let scans = (value > 0).then(|| left.div_ceil(u64::from(c.scan_ms.max(1))));
         Some((elapsed, scans))
@@ -364,6 +369,16 @@ mod tests {
             ..row
         };
         assert_eq!(down.elapsed(), Some((3820, Some(40))));
+        let done = BoxRow {
+            value: Some(0),
+            done: true,
+            ..down.clone()
+        };
+        assert_eq!(
+            done.elapsed(),
+            Some((5000, None)),
+            "done: the preset's time"
+        );
         assert!((down.progress() - 38.0 / 50.0).abs() < 1e-6);
         assert_eq!(down.note(), None);
         let ms = BoxRow {

@@ -58,6 +58,10 @@ impl DialectPanel for BoxesPanel {
     }
 }
 
+fn scans_to_go(n: u64) -> String {
+    format!("{n} scan{} to go", if n == 1 { "" } else { "s" })
+}
+
 fn box_row(ui: &mut egui::Ui, row: &BoxRow, p: &crate::ui::theme::Palette, out: &mut Vec<Command>) {
     let title = ui
         .add(egui::Button::new(RichText::new(&row.title).monospace()).frame(false))
@@ -115,7 +119,7 @@ fn box_row(ui: &mut egui::Ui, row: &BoxRow, p: &crate::ui::theme::Palette, out: 
     match row.elapsed() {
         Some((ms, scans)) => {
             let to_go = match scans {
-                Some(n) => format!("{n} scans to go"),
+                Some(n) => scans_to_go(n),
                 None if row.done => "done".to_string(),
                 None => "not timing".to_string(),
             };
@@ -130,7 +134,7 @@ fn box_row(ui: &mut egui::Ui, row: &BoxRow, p: &crate::ui::theme::Palette, out: 
     } else if let Some((ms, scans)) = row.elapsed() {
         // A count-down timer: the time so far and the scans until its output turns on.
         let text = match scans {
-            Some(n) => format!("{ms} ms elapsed, {n} scans to go"),
+            Some(n) => format!("{ms} ms elapsed, {}", scans_to_go(n)),
             None if row.done => format!("{ms} ms elapsed"),
             None => "not timing".to_string(),
         };
