@@ -36,6 +36,33 @@ enum Command {
     /// Run a program headless and report its final state (exit 0 ended, 1 faulted,
     /// 2 bad file or arguments, 3 tick limit, 4 --break came true).
     Run(RunArgs),
+    /// Draw a PLC program (DL205, OpenNet) as a ladder diagram in SVG, with its power flow
+    /// as it stands after --max-ticks scans (before the first scan without it).
+    Ladder(LadderArgs),
+}
+
+#[derive(clap::Args)]
+struct LadderArgs {
+    /// The program (dialect by extension), or a saved session (.ron).
+    file: PathBuf,
+    /// The program's dialect when its extension does not say it.
+    #[arg(long, value_name = "NAME")]
+    dialect: Option<String>,
+    /// Run this many scans first; without it, the diagram before the first scan.
+    #[arg(long)]
+    max_ticks: Option<u64>,
+    /// Toggle an input at the listed scans, e.g. X0=10,20 (inputs start low). Repeatable.
+    #[arg(long = "input", value_name = "NAME=T1,T2,...")]
+    inputs: Vec<String>,
+    /// Force a bit from a scan on, e.g. Y0=1@100 (from the start without @SCAN). Repeatable.
+    #[arg(long = "force", value_name = "NAME=1|0[@SCAN]")]
+    forces: Vec<String>,
+    /// A setting of the dialect's model, e.g. scan_ms=20. Repeatable.
+    #[arg(long = "setting", value_name = "KEY=VALUE")]
+    settings: Vec<String>,
+    /// Where to write the SVG.
+    #[arg(long, value_name = "OUT.svg")]
+    svg: PathBuf,
 }
 
 #[derive(clap::Args)]
@@ -66,7 +93,11 @@ struct RunArgs {
     save_session: Option<PathBuf>,
     /// Let --save-session replace a file that is not a session.
     #[arg(long)]
-    force: bool,
+    overwrite: bool,
+    /// Force a bit (PLC inputs, outputs, relays) from a scan on, e.g. Y0=1@100 or X1=0 (from
+    /// the start without @SCAN); it keeps that level whatever the program writes. Repeatable.
+    #[arg(long = "force", value_name = "NAME=1|0[@SCAN]")]
+    forces: Vec<String>,
     /// Write one JSON object per executed instruction to this file (JSON Lines): position,
     /// line, mnemonic, and the locations it wrote with their new values.
     #[arg(long, value_name = "FILE.jsonl")]
@@ -82,6 +113,13 @@ fn main() -> ExitCode {
     match cli.command {
         Some(Command::Run(args)) => ExitCode::from(match run(&args) {
             Ok(code) => code,
+            Err(message) => {
+                say(&format!("servoscope: {message}"));
+                2
+            }
+        }),
+        Some(Command::Ladder(args)) => ExitCode::from(match ladder(&args) {
+            Ok(()) => 0,
             Err(message) => {
                 say(&format!("servoscope: {message}"));
                 2
@@ -181,16 +219,18 @@ fn run(args: &RunArgs) -> Result<u8, String> {
         settings: given_settings,
         json,
         save_session,
-        force,
+        overwrite,
+        forces,
         trace,
         break_when,
     } = args;
     let (dialect, max_ticks, json) = (dialect.as_deref(), *max_ticks, *json);
     let start = read_start(file, dialect)?;
     let name = file.display().to_string();
-    if start.session.is_some() && !(inputs.is_empty() && sets.is_empty()) {
+    if start.session.is_some() && !(inputs.is_empty() && sets.is_empty() && forces.is_empty()) {
         return Err(
-            "--input and --set cannot be combined with a session (its edits are in it)".to_string(),
+            "--input, --set and --force cannot be combined with a session (its edits are in it)"
+                .to_string(),
         );
     }
     if start.session.is_some() && !given_settings.is_empty() {
@@ -204,27 +244,8 @@ fn run(args: &RunArgs) -> Result<u8, String> {
         settings.insert(key, value);
     }
     let settings = start.dialect.settings_from(&settings);
-    let engine = match (start.dialect.open)(&start.source, &settings) {
-        Ok(engine) => engine,
-        Err(diagnostics) => {
-            for d in diagnostics.iter().take(MAX_DIAGNOSTICS_SHOWN) {
-                say(&d.with_file(&name).to_string());
-            }
-            if diagnostics.len() > MAX_DIAGNOSTICS_SHOWN {
-                let more = diagnostics.len() - MAX_DIAGNOSTICS_SHOWN;
-                say(&format!("... and {more} more error(s)"));
-            }
-            return Err(format!(
-                "{name}: {} error(s), nothing run",
-                diagnostics.len()
-            ));
-        }
-    };
+    let engine = open_engine(&start, &settings, &name)?;
     let m = engine.machine();
-    // Warnings never stop a run (OpenNet's MICRO3 relays): stderr, exit code unchanged.
-    for d in m.warnings().iter().take(MAX_DIAGNOSTICS_SHOWN) {
-        say(&d.with_file(&name).to_string());
-    }
     let events = match &start.session {
         // A session resumes at its saved tick; the events decide everything, so running on
         // from the start with them gives exactly the straight run's result.
@@ -239,6 +260,9 @@ fn run(args: &RunArgs) -> Result<u8, String> {
                 toggles.extend(runner::parse_input_spec(m, spec).map_err(|e| e.to_string())?);
             }
             events.extend(runner::toggles_to_events(&toggles));
+            for spec in forces {
+                events.push(runner::parse_force_spec(m, spec).map_err(|e| e.to_string())?);
+            }
             events
         }
     };
@@ -289,14 +313,14 @@ fn run(args: &RunArgs) -> Result<u8, String> {
             machine: done.machine(),
             events: &events,
         });
-        let saved = if *force {
+        let saved = if *overwrite {
             session.save_over(out)
         } else {
             session.save(out)
         };
         saved.map_err(|e| match e {
             servoscope::session::SessionError::WouldReplace { .. } => {
-                format!("{e}; pass --force to replace it")
+                format!("{e}; pass --overwrite to replace it")
             }
             other => other.to_string(),
         })?;
@@ -313,6 +337,82 @@ fn run(args: &RunArgs) -> Result<u8, String> {
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(2),
         Err(e) => Err(format!("cannot write the report to standard output: {e}")),
     }
+}
+
+/// Assemble the start's program, printing its errors (and warnings, which never stop a run:
+/// OpenNet's MICRO3 relays) on stderr.
+fn open_engine(
+    start: &Start,
+    settings: &Settings,
+    name: &str,
+) -> Result<Box<dyn servoscope::debugger::Engine>, String> {
+    match (start.dialect.open)(&start.source, settings) {
+        Ok(engine) => {
+            for d in engine
+                .machine()
+                .warnings()
+                .iter()
+                .take(MAX_DIAGNOSTICS_SHOWN)
+            {
+                say(&d.with_file(name).to_string());
+            }
+            Ok(engine)
+        }
+        Err(diagnostics) => {
+            for d in diagnostics.iter().take(MAX_DIAGNOSTICS_SHOWN) {
+                say(&d.with_file(name).to_string());
+            }
+            if diagnostics.len() > MAX_DIAGNOSTICS_SHOWN {
+                let more = diagnostics.len() - MAX_DIAGNOSTICS_SHOWN;
+                say(&format!("... and {more} more error(s)"));
+            }
+            Err(format!(
+                "{name}: {} error(s), nothing run",
+                diagnostics.len()
+            ))
+        }
+    }
+}
+
+/// `servoscope ladder`: the diagram with its power flow after the scans asked for, as SVG.
+fn ladder(args: &LadderArgs) -> Result<(), String> {
+    let start = read_start(&args.file, args.dialect.as_deref())?;
+    let name = args.file.display().to_string();
+    let mut settings = start.settings.clone();
+    for text in &args.settings {
+        let (key, value) = start.dialect.parse_setting(text)?;
+        settings.insert(key, value);
+    }
+    let settings = start.dialect.settings_from(&settings);
+    let engine = open_engine(&start, &settings, &name)?;
+    let m = engine.machine();
+    if m.ladder().is_none() {
+        return Err(format!(
+            "{name}: a {} program has no ladder diagram (DL205 and OpenNet programs have)",
+            start.dialect.display_name
+        ));
+    }
+    let mut events = match &start.session {
+        Some(session) => session.user_events(m, &name).map_err(|e| e.to_string())?,
+        None => Vec::new(),
+    };
+    let mut toggles = Vec::new();
+    for spec in &args.inputs {
+        toggles.extend(runner::parse_input_spec(m, spec).map_err(|e| e.to_string())?);
+    }
+    events.extend(runner::toggles_to_events(&toggles));
+    for spec in &args.forces {
+        events.push(runner::parse_force_spec(m, spec).map_err(|e| e.to_string())?);
+    }
+    let done = runner::run_engine(engine.as_ref(), &events, args.max_ticks.unwrap_or(0));
+    let m = done.machine();
+    let diagram =
+        servoscope::machine::plc::ladder::with_comments(m, &start.source, start.dialect.classify)
+            .ok_or_else(|| format!("{name}: no ladder diagram"))?;
+    let title = format!("{} — after {} scan(s)", start.name, m.ticks());
+    let svg = servoscope::machine::plc::ladder::svg_of(m, &diagram, &title);
+    servoscope::atomic::write_atomically(&args.svg, |w| w.write_all(svg.as_bytes()))
+        .map_err(|e| format!("cannot write {}: {e}", args.svg.display()))
 }
 
 /// Diagnostics printed at most; the rest are counted.

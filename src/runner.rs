@@ -47,6 +47,56 @@ pub enum ArgError {
         spec: String,
         source: value::ValueError,
     },
+    #[error("--force '{spec}': expected NAME=1|0[@SCAN], e.g. Y0=1@100")]
+    ForceShape { spec: String },
+    #[error("--force '{spec}': {reason}")]
+    CannotForce { spec: String, reason: String },
+}
+
+/// Parse `NAME=1|0[@SCAN]` into a force of that bit from that scan (from the start without
+/// `@SCAN`). ON/OFF are taken for 1/0.
+pub fn parse_force_spec(m: &dyn MachineView, spec: &str) -> Result<UserEvent, ArgError> {
+    let shape = || ArgError::ForceShape {
+        spec: spec.to_string(),
+    };
+    let (name, rest) = spec.split_once('=').ok_or_else(shape)?;
+    let (level, at) = match rest.split_once('@') {
+        Some((l, t)) => (l, Some(t)),
+        None => (rest, None),
+    };
+    let on = match level.trim().to_ascii_uppercase().as_str() {
+        "1" | "ON" => true,
+        "0" | "OFF" => false,
+        _ => return Err(shape()),
+    };
+    let tick = match at {
+        Some(t) => t.trim().parse::<u64>().map_err(|_| shape())?,
+        None => 0,
+    };
+    let cannot = |reason: String| ArgError::CannotForce {
+        spec: spec.to_string(),
+        reason,
+    };
+    let loc = m.find(name).ok_or_else(|| {
+        cannot(format!(
+            "there is no location '{}' in this {} program",
+            name.trim(),
+            m.dialect()
+        ))
+    })?;
+    if !m.can_force(loc) {
+        let name = m
+            .info(loc)
+            .map_or_else(|| name.trim().to_string(), |i| i.name);
+        return Err(cannot(format!(
+            "{name} cannot be forced (inputs, outputs and relays can)"
+        )));
+    }
+    Ok(UserEvent {
+        at: Pos::at_tick(tick),
+        loc,
+        change: Change::Force(Some(on)),
+    })
 }
 
 /// The names of a machine's inputs, shortened for messages.

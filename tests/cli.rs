@@ -408,15 +408,15 @@ fn saving_a_session_never_destroys_what_is_not_one() {
     let out = servoscope(&["run", f.path(), "--save-session", f.path(), "--json"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(out.stdout.is_empty());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("--force"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--overwrite"));
     assert_eq!(std::fs::read(f.path()).expect("still there"), before);
     // Onto a device: refused, and the device stays a device.
     let out = servoscope(&["run", f.path(), "--save-session", "/dev/null"]);
     assert_eq!(out.status.code(), Some(2));
     let null = std::fs::metadata("/dev/null").expect("exists");
     assert!(!null.file_type().is_file(), "/dev/null is still a device");
-    // With --force the user asked for it.
-    let out = servoscope(&["run", f.path(), "--save-session", f.path(), "--force"]);
+    // With --overwrite the user asked for it.
+    let out = servoscope(&["run", f.path(), "--save-session", f.path(), "--overwrite"]);
     assert_eq!(out.status.code(), Some(0));
     let text = std::fs::read_to_string(f.path()).expect("replaced");
     assert!(text.contains("format: 2"), "now a session");

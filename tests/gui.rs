@@ -1640,3 +1640,71 @@ fn the_opennet_scan_time_is_a_setting() {
     assert_eq!(h.state().debugger.machine().tick_micros(), 50_000);
     assert_eq!(h.state().session().settings["scan_ms"], 50.0);
 }
+
+/// Issue #25: a PLC program opens with its Ladder beside the Program; clicking an element goes
+/// to its line and register, clicking a rung's rail sets a breakpoint, stepping moves the power
+/// flow, and the I/O board switches inputs and forces bits from a right-click.
+#[test]
+fn the_ladder_and_the_io_board_drive_the_debugger() {
+    let dl205 = servoscope::machine::registry::by_name("dl205").expect("registered");
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.load_program_as(
+        dl205,
+        "t.dl205",
+        "STR X0       // start\nOUT Y0\nSTR Y0\nOUT Y1\nEND\n",
+    );
+    let mut h = harness(app);
+    assert!(
+        h.state()
+            .layout
+            .is_shown(&servoscope::ui::layout::Pane::Dialect("Ladder".into())),
+        "the Ladder opens with a PLC program"
+    );
+    // Click X0's contact: its line and its register.
+    h.get_by_label("Ladder X0 line 1").click();
+    h.run_steps(2);
+    let x0 = h.state().debugger.machine().find("X0").expect("X0");
+    assert_eq!(h.state().registers.selected, Some(x0));
+    assert_eq!(
+        h.state().code.cursor_line,
+        Some(1),
+        "the program is at its line"
+    );
+    // The rail of rung 1 toggles a breakpoint on its first line.
+    h.get_by_label("Ladder rung 1 rail").click();
+    h.run_steps(2);
+    assert!(h.state().debugger.breakpoints().contains(&3));
+    // The I/O board: a click switches X0, and the scan turns Y0 on.
+    h.get_by_label("I/O board").click();
+    h.run_steps(2);
+    h.get_by_label("X0 lamp").click();
+    h.run_steps(2);
+    assert_eq!(h.state().debugger.machine().read(x0), 1);
+    h.key_press(Key::F8);
+    h.run_steps(3);
+    let y1 = h.state().debugger.machine().find("Y1").expect("Y1");
+    assert_eq!(
+        h.state().debugger.machine().read(y1),
+        1,
+        "one scan: Y0 then Y1"
+    );
+    // Right-click Y0's lamp: Force Y0 OFF holds it off against the program.
+    h.get_by_label("Y0 lamp").click_secondary();
+    h.run_steps(2);
+    h.get_by_label("Force Y0 OFF").click();
+    h.run_steps(2);
+    let y0 = h.state().debugger.machine().find("Y0").expect("Y0");
+    assert_eq!(h.state().debugger.machine().forced(y0), Some(false));
+    h.key_press(Key::F8);
+    h.run_steps(3);
+    let m = h.state().debugger.machine();
+    assert_eq!(
+        (m.read(y0), m.read(y1)),
+        (0, 0),
+        "forced off, and Y1 reads it"
+    );
+    // The forces list releases it.
+    h.get_by_label("Release all").click();
+    h.run_steps(2);
+    assert!(h.state().debugger.machine().forces().is_empty());
+}

@@ -25,6 +25,8 @@ pub enum Change {
     Set(u64),
     /// Set or clear one bit, keeping the others as they are at that moment.
     Bit { bit: u8, on: bool },
+    /// Force a bit to a level (Some) or release its force (None).
+    Force(Option<bool>),
 }
 
 /// A change the user made, replayed when the run reaches its position.
@@ -38,6 +40,7 @@ pub struct UserEvent {
 impl UserEvent {
     pub fn apply<M: MachineView + ?Sized>(&self, m: &mut M) -> Result<(), WriteError> {
         let value = match self.change {
+            Change::Force(level) => return m.force(self.loc, level),
             Change::Set(v) => v,
             Change::Bit { bit, on } => {
                 let v = m.read(self.loc);

@@ -221,6 +221,31 @@ impl Debugger {
             .map_or_else(|| format!("{loc:?}"), |i| i.name);
         let now = self.pos();
         let again = self.last_writer == Some((loc, now));
+        // A forced bit holds the force's level whatever the program wrote since: the force is
+        // the answer.
+        if !again && let Some(on) = self.machine().forced(loc) {
+            let forced_at = self
+                .events()
+                .iter()
+                .filter(|e| e.loc == loc && e.at <= now)
+                .filter(|e| matches!(e.change, super::history::Change::Force(Some(_))))
+                .map(|e| e.at)
+                .next_back();
+            if let Some(at) = forced_at {
+                self.engine.goto(at);
+                self.last_writer = Some((loc, at));
+                self.event = Some(Event::WrittenBy {
+                    location: name.clone(),
+                    at,
+                    line: None,
+                    explanation: format!(
+                        "your force: {name} forced {} (it holds whatever the program writes)",
+                        if on { "ON" } else { "OFF" }
+                    ),
+                });
+                return Some(at);
+            }
+        }
         let by_program = if !again && self.machine().wrote(loc) {
             Some(now)
         } else {
@@ -253,7 +278,12 @@ impl Debugger {
         self.engine.goto(at);
         self.last_writer = Some((loc, at));
         let m = self.machine();
-        let mut explanation = if user {
+        let forced = self.events().iter().any(|e| {
+            e.loc == loc && e.at == at && matches!(e.change, super::history::Change::Force(_))
+        });
+        let mut explanation = if user && forced {
+            String::from("your force or its release")
+        } else if user {
             String::from("your edit")
         } else {
             m.explain_last().unwrap_or_default()

@@ -198,6 +198,9 @@ impl Change {
                 bit,
                 width: info.width,
             }),
+            Change::Force(_) if info.width != 1 => {
+                Err(crate::machine::WriteError::NotForceable(info.name.clone()).into())
+            }
             _ => Ok(()),
         }
     }
@@ -728,6 +731,7 @@ impl Debugger {
         let unchanged = match change {
             Change::Set(v) => v == now,
             Change::Bit { bit, on } => (now >> bit & 1 == 1) == on,
+            Change::Force(level) => self.machine().forced(loc) == level,
         };
         if unchanged {
             // Writing what is already there changes nothing: no event, the future stays.
@@ -791,6 +795,20 @@ impl Debugger {
             return Ok(());
         }
         self.set_value(loc, u64::from(high))
+    }
+
+    /// Force a bit ON or OFF (`Some`) or release it (`None`) from now on: a user event like an
+    /// edit, so time travel replays it and sessions keep it.
+    pub fn force(&mut self, loc: Loc, level: Option<bool>) -> Result<(), EditError> {
+        self.edit(loc, Change::Force(level))
+    }
+
+    /// Release every force now.
+    pub fn release_all_forces(&mut self) -> Result<(), EditError> {
+        for (loc, _) in self.machine().forces() {
+            self.force(loc, None)?;
+        }
+        Ok(())
     }
 
     /// The dialect's settings; applying them restarts the program.

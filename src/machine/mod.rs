@@ -237,6 +237,10 @@ pub enum WriteError {
     ReadOnly(String),
     #[error("{value} does not fit in {name} ({width} bits)")]
     TooWide { name: String, value: u64, width: u8 },
+    #[error("{name} is forced {}: release the force first", if *on { "ON" } else { "OFF" })]
+    Forced { name: String, on: bool },
+    #[error("{0} cannot be forced (only inputs, outputs and relays can)")]
+    NotForceable(String),
 }
 
 /// The dialect-neutral face of a machine for views, edits, sessions and the runner. Values are
@@ -375,6 +379,41 @@ pub trait MachineView: Send + 'static {
         Vec::new()
     }
 
+    /// The program as a ladder diagram (scanned PLCs), built once when it was assembled.
+    fn ladder(&self) -> Option<std::sync::Arc<plc::ladder::Ladder>> {
+        None
+    }
+    /// Whether the contact-like element of instruction `index` conducts now: a normally-open
+    /// contact whose bit is on, a normally-closed one whose bit is off, a compare that holds, an
+    /// edge that fired in this scan.
+    fn ladder_conducts(&self, _index: usize) -> bool {
+        false
+    }
+
+    /// Force a bit to a level (`Some`) or release it (`None`): a forced bit keeps its level
+    /// whatever the program writes (DL205 override, WindLDR set/reset forced).
+    fn force(&mut self, loc: Loc, _level: Option<bool>) -> Result<(), WriteError> {
+        Err(WriteError::NotForceable(
+            self.info(loc)
+                .map_or_else(|| format!("{loc:?}"), |i| i.name),
+        ))
+    }
+    /// Whether `loc` is a bit a user can force.
+    fn can_force(&self, _loc: Loc) -> bool {
+        false
+    }
+    /// The forced bits and their levels, in the order they were forced.
+    fn forces(&self) -> Vec<(Loc, bool)> {
+        Vec::new()
+    }
+    /// The level `loc` is forced to, if it is forced.
+    fn forced(&self, loc: Loc) -> Option<bool> {
+        self.forces()
+            .into_iter()
+            .find(|&(l, _)| l == loc)
+            .map(|(_, on)| on)
+    }
+
     /// For a dialect's own panels, which know the concrete type.
     fn as_any(&self) -> &dyn Any;
 }
@@ -440,6 +479,10 @@ pub trait ScanSteps: MachineView {
     fn fast_scan(&mut self) -> bool;
     /// Every location a scan may write (a superset of what `note_writes` notes over a scan).
     fn scan_writes(&self) -> WriteSet;
+    /// Bits are forced: the fast loop, which does not hold them, stands aside.
+    fn forcing(&self) -> bool {
+        false
+    }
 }
 
 /// [`Machine::run_bare`] of a scanned PLC: the rest of a begun scan in the executor, whole
@@ -462,7 +505,7 @@ pub fn run_scans_quiet<M: ScanSteps>(
     quiet: &mut Quiet,
 ) -> Option<StopReason> {
     // A scan's writes are seen only at its end, too late for a data breakpoint.
-    if !quiet.guarded.is_empty() {
+    if !quiet.guarded.is_empty() || m.forcing() {
         return None;
     }
     if quiet

@@ -251,7 +251,45 @@ fn data_breakpoint(debugger: &Debugger, view: &BreakpointsView) -> Result<Breakp
 }
 
 /// The context menu of a location, wherever one is shown.
-pub fn location_menu(ui: &mut egui::Ui, name: &str, loc: Loc, out: &mut Vec<Command>) {
+/// Force ON / Force OFF / Release for a bit that can be forced (`forced`: its force now).
+pub fn force_items(
+    ui: &mut egui::Ui,
+    name: &str,
+    loc: Loc,
+    forced: Option<bool>,
+    out: &mut Vec<Command>,
+) {
+    for (text, level) in [
+        (format!("Force {name} ON"), Some(true)),
+        (format!("Force {name} OFF"), Some(false)),
+    ] {
+        if ui
+            .add_enabled(forced != level, egui::Button::new(text))
+            .clicked()
+        {
+            out.push(Command::Force(loc, level));
+            ui.close();
+        }
+    }
+    if ui
+        .add_enabled(
+            forced.is_some(),
+            egui::Button::new(format!("Release {name}")),
+        )
+        .clicked()
+    {
+        out.push(Command::Force(loc, None));
+        ui.close();
+    }
+}
+
+pub fn location_menu(
+    ui: &mut egui::Ui,
+    m: &dyn crate::machine::MachineView,
+    name: &str,
+    loc: Loc,
+    out: &mut Vec<Command>,
+) {
     let mut item = |ui: &mut egui::Ui, text: String, command: Command| {
         if ui.button(text).clicked() {
             out.push(command);
@@ -274,4 +312,8 @@ pub fn location_menu(ui: &mut egui::Ui, name: &str, loc: Loc, out: &mut Vec<Comm
         format!("Watch {name}"),
         Command::AddWatch(name.to_string()),
     );
+    if m.can_force(loc) {
+        ui.separator();
+        force_items(ui, name, loc, m.forced(loc), out);
+    }
 }

@@ -349,6 +349,12 @@ pub fn hover_value(m: &dyn crate::machine::MachineView, word: &str) -> Option<St
             // A relay or an input is on or off: "signed −1" or "Q16.16 −0.000015" would be
             // readings of a number it is not.
             lines.push(if raw != 0 { "ON" } else { "OFF" }.to_string());
+            if let Some(on) = m.forced(loc) {
+                lines.push(format!(
+                    "FORCED {}: it holds whatever the program writes",
+                    if on { "ON" } else { "OFF" }
+                ));
+            }
         } else {
             lines.extend(
                 Format::ALL
@@ -356,7 +362,11 @@ pub fn hover_value(m: &dyn crate::machine::MachineView, word: &str) -> Option<St
                     .map(|f| format!("{:>8}  {}", f.name(), f.show(raw, info.width))),
             );
         }
-        lines.push("Right-click: who wrote it, break on it, watch it".to_string());
+        lines.push(if m.can_force(loc) {
+            "Right-click: who wrote it, break on it, watch it, force it".to_string()
+        } else {
+            "Right-click: who wrote it, break on it, watch it".to_string()
+        });
         return Some(lines.join("\n"));
     }
     if let Some((name, value)) = m.program_constants().into_iter().find(|(n, _)| n == word) {
@@ -679,7 +689,7 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                 }
                 if let Some((name, loc)) = view.menu_location.clone() {
                     egui::Response::clone(&output.response).context_menu(|ui| {
-                        super::breakpoints::location_menu(ui, &name, loc, out);
+                        super::breakpoints::location_menu(ui, debugger.machine(), &name, loc, out);
                     });
                 }
                 gutter_ui(ui, debugger, gutter, &rows, pc_line, &p, &font, out);

@@ -118,6 +118,14 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
             if ui.button("Save program as…").clicked() {
                 out.push(Command::SaveProgramDialog);
             }
+            if app.debugger.machine().ladder().is_some()
+                && ui
+                    .button("Export ladder…")
+                    .on_hover_text("The ladder diagram with its power flow now, as SVG")
+                    .clicked()
+            {
+                out.push(Command::ExportLadderDialog);
+            }
             ui.separator();
             ui.menu_button("Open recent", |ui| {
                 if app.prefs.recent.is_empty() {

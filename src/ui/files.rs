@@ -19,6 +19,8 @@ pub enum Purpose {
     ExportLog,
     /// The program's text, as a program file.
     SaveProgram,
+    /// The ladder diagram, as SVG.
+    ExportLadder,
 }
 
 impl Purpose {
@@ -29,13 +31,14 @@ impl Purpose {
             Purpose::ExportCsv => "Export the trace as CSV",
             Purpose::ExportLog => "Export the execution log as CSV",
             Purpose::SaveProgram => "Save the program",
+            Purpose::ExportLadder => "Export the ladder diagram as SVG",
         }
     }
     fn button(self) -> &'static str {
         match self {
             Purpose::OpenProgram => "Open",
             Purpose::SaveSession => "Save",
-            Purpose::ExportCsv | Purpose::ExportLog => "Export",
+            Purpose::ExportCsv | Purpose::ExportLog | Purpose::ExportLadder => "Export",
             Purpose::SaveProgram => "Save program",
         }
     }
@@ -46,6 +49,7 @@ impl Purpose {
             Purpose::ExportCsv => Command::ExportCsv(path),
             Purpose::ExportLog => Command::ExportLog(path),
             Purpose::SaveProgram => Command::SaveProgramTo(path),
+            Purpose::ExportLadder => Command::ExportLadder(path),
         }
     }
 }
@@ -123,6 +127,10 @@ impl PathRequest {
                     Purpose::SaveProgram => dialog
                         .add_filter("Programs", &openable_extensions())
                         .save_file(),
+                    Purpose::ExportLadder => dialog
+                        .add_filter("SVG", &["svg"])
+                        .set_file_name("ladder.svg")
+                        .save_file(),
                 };
                 let _ = tx.send(picked);
                 ctx.request_repaint();
@@ -176,6 +184,7 @@ pub struct Files {
     pub export: PathRequest,
     pub export_log: PathRequest,
     pub save_program: PathRequest,
+    pub export_ladder: PathRequest,
 }
 
 impl Default for Files {
@@ -186,6 +195,7 @@ impl Default for Files {
             export: PathRequest::new(Purpose::ExportCsv),
             export_log: PathRequest::new(Purpose::ExportLog),
             save_program: PathRequest::new(Purpose::SaveProgram),
+            export_ladder: PathRequest::new(Purpose::ExportLadder),
         }
     }
 }
@@ -199,6 +209,7 @@ impl Files {
             Purpose::ExportCsv => &mut self.export,
             Purpose::ExportLog => &mut self.export_log,
             Purpose::SaveProgram => &mut self.save_program,
+            Purpose::ExportLadder => &mut self.export_ladder,
         }
     }
 
@@ -208,6 +219,7 @@ impl Files {
             || self.export.is_waiting()
             || self.export_log.is_waiting()
             || self.save_program.is_waiting()
+            || self.export_ladder.is_waiting()
     }
 
     /// Commands for paths the native dialogs returned.
@@ -218,6 +230,7 @@ impl Files {
             &mut self.export,
             &mut self.export_log,
             &mut self.save_program,
+            &mut self.export_ladder,
         ] {
             if let Some(path) = request.poll() {
                 out.push(request.purpose.command(path));
@@ -231,6 +244,7 @@ impl Files {
         path_window(ctx, &mut self.export, &[], out);
         path_window(ctx, &mut self.export_log, &[], out);
         path_window(ctx, &mut self.save_program, &[], out);
+        path_window(ctx, &mut self.export_ladder, &[], out);
     }
 }
 
@@ -289,6 +303,7 @@ fn path_window(
                     Purpose::ExportCsv => Command::ExportDialog,
                     Purpose::ExportLog => Command::ExportLogDialog,
                     Purpose::SaveProgram => Command::SaveProgramDialog,
+                    Purpose::ExportLadder => Command::ExportLadderDialog,
                 });
             }
             if let Some(note) = &request.note {

@@ -86,6 +86,9 @@ pub fn panes_before_debugger_panels() -> Vec<String> {
         .collect()
 }
 
+/// Dialect panels that open beside the Program panel rather than beside the plot.
+const BESIDE_PROGRAM: [&str; 1] = [super::ladder::TITLE];
+
 /// Below this no tile can be dragged smaller.
 const MIN_TILE: f32 = 40.0;
 /// The gap between tiles, and each tab bar's height.
@@ -182,6 +185,31 @@ impl Layout {
     pub fn standard(dialect_panels: &[&str]) -> Self {
         let mut tiles = Tiles::default();
         let program = tiles.insert_pane(Pane::Program);
+        // The ladder of a PLC program stands beside its mnemonics, as DirectSOFT and WindLDR
+        // show both.
+        let (beside_program, dialect_panels): (Vec<&str>, Vec<&str>) = dialect_panels
+            .iter()
+            .partition(|t| BESIDE_PROGRAM.contains(t));
+        let program = match beside_program.as_slice() {
+            [] => program,
+            titles => {
+                let mut row = vec![program];
+                row.extend(
+                    titles
+                        .iter()
+                        .map(|t| tiles.insert_pane(Pane::Dialect((*t).to_string()))),
+                );
+                let ids = row.clone();
+                let row_id = tiles.insert_horizontal_tile(row);
+                let shares: Vec<(TileId, f32)> = ids
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &id)| (id, if i == 0 { 1.0 } else { 1.2 }))
+                    .collect();
+                set_shares(&mut tiles, row_id, &shares);
+                row_id
+            }
+        };
         let timeline = tiles.insert_pane(Pane::Timeline);
         let plot = tiles.insert_pane(Pane::Plot);
         let panes: Vec<TileId> = dialect_panels
@@ -392,6 +420,55 @@ impl Layout {
         }
     }
 
+    /// Put `pane` to the right of the Program panel (splitting its place in two).
+    fn put_beside_program(&mut self, pane: Pane) {
+        let id = self.tree.tiles.insert_pane(pane);
+        let Some(program) = self.tree.tiles.find_pane(&Pane::Program) else {
+            if let Some(egui_tiles::Tile::Container(c)) =
+                self.tree.root().and_then(|r| self.tree.tiles.get_mut(r))
+            {
+                c.add_child(id);
+            }
+            return;
+        };
+        // Beside the Program's tab stack when it has one.
+        let mut anchor = program;
+        if let Some(parent) = self.tree.tiles.parent_of(program)
+            && matches!(
+                self.tree.tiles.get_container(parent),
+                Some(egui_tiles::Container::Tabs(_))
+            )
+        {
+            anchor = parent;
+        }
+        let parent = self.tree.tiles.parent_of(anchor);
+        if let Some(parent) = parent
+            && let Some(egui_tiles::Container::Linear(linear)) =
+                self.tree.tiles.get_container(parent)
+            && linear.dir == egui_tiles::LinearDir::Horizontal
+        {
+            if let Some(egui_tiles::Tile::Container(c)) = self.tree.tiles.get_mut(parent) {
+                c.add_child(id);
+            }
+            return;
+        }
+        let row = self.tree.tiles.insert_horizontal_tile(vec![anchor, id]);
+        set_shares(&mut self.tree.tiles, row, &[(anchor, 1.0), (id, 1.2)]);
+        match parent {
+            Some(parent) => {
+                if let Some(egui_tiles::Tile::Container(c)) = self.tree.tiles.get_mut(parent) {
+                    let _ = c.replace_child(anchor, row);
+                    // The row takes the program's share of its column.
+                    if let egui_tiles::Container::Linear(linear) = c {
+                        let share = linear.shares[anchor];
+                        linear.shares.set_share(row, share);
+                    }
+                }
+            }
+            None => self.tree.root = Some(row),
+        }
+    }
+
     /// Swap the dialect panels in the layout for `titles` (another dialect's). Panels of this
     /// dialect the user arranged stay where they are; another dialect's are replaced by this
     /// one's, stacked as tabs beside the plot (the smallest window has room for one there).
@@ -411,6 +488,11 @@ impl Layout {
         }
         for (id, _) in present {
             self.tree.remove_recursively(id);
+        }
+        let (beside_program, titles): (Vec<&str>, Vec<&str>) =
+            titles.iter().partition(|t| BESIDE_PROGRAM.contains(t));
+        for t in beside_program {
+            self.put_beside_program(Pane::Dialect(t.to_string()));
         }
         if titles.is_empty() {
             return;

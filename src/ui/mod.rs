@@ -8,6 +8,8 @@ pub mod code_rows;
 pub mod controls;
 pub mod files;
 pub mod frames;
+pub mod io_board;
+pub mod ladder;
 pub mod layout;
 pub mod loading;
 pub mod log;
@@ -113,6 +115,13 @@ pub enum Command {
     ShowLine(usize),
     ExportLogDialog,
     ExportLog(PathBuf),
+    /// Force a bit ON/OFF (Some) or release it (None).
+    Force(Loc, Option<bool>),
+    ReleaseAllForces,
+    /// Show a location in the register view.
+    SelectLocation(Loc),
+    ExportLadderDialog,
+    ExportLadder(PathBuf),
 }
 
 /// Preferences kept between runs by eframe's storage (never the program state).
@@ -430,6 +439,34 @@ impl ServoscopeApp {
     }
 
     /// A file could not be opened or written: said in its dialog and in the notice banner.
+    /// File → Export ladder…: the diagram at the current position, as SVG.
+    fn export_ladder(&mut self, path: &std::path::Path) {
+        let d = &self.debugger;
+        let m = d.machine();
+        let Some(diagram) =
+            crate::machine::plc::ladder::with_comments(m, d.source(), d.dialect().classify)
+        else {
+            self.notice = Some("This program has no ladder diagram".to_string());
+            return;
+        };
+        let title = format!("{} — scan {}", d.name(), m.pos());
+        let svg = crate::machine::plc::ladder::svg_of(m, &diagram, &title);
+        match crate::atomic::write_atomically(path, |w| w.write_all(svg.as_bytes())) {
+            Ok(()) => {
+                self.files.export_ladder.close();
+                self.notice = Some(format!(
+                    "Exported {} rungs to {}",
+                    diagram.rungs.len(),
+                    path.display()
+                ));
+            }
+            Err(e) => self.file_failed(
+                files::Purpose::ExportLadder,
+                format!("Cannot write {}: {e}", path.display()),
+            ),
+        }
+    }
+
     fn file_failed(&mut self, purpose: files::Purpose, message: String) {
         self.files.request(purpose).error = Some(message.clone());
         self.notice = Some(message);
@@ -780,6 +817,19 @@ impl ServoscopeApp {
             }
             Command::GoTo(pos) => self.debugger.goto(pos),
             Command::ShowLine(line) => self.code.show_line(line),
+            Command::Force(loc, level) => {
+                let result = self.debugger.force(loc, level);
+                self.report(result);
+            }
+            Command::ReleaseAllForces => {
+                let result = self.debugger.release_all_forces();
+                self.report(result);
+            }
+            Command::SelectLocation(loc) => {
+                self.registers.select(loc, self.debugger.machine());
+            }
+            Command::ExportLadderDialog => self.files.export_ladder.start(ctx),
+            Command::ExportLadder(path) => self.export_ladder(&path),
             Command::ExportLogDialog => self.files.export_log.start(ctx),
             Command::ExportLog(path) => {
                 let rows = self.log.log.rows.len();

@@ -317,7 +317,7 @@ fn bit_grid(
     ui.horizontal(|ui| {
         ui.heading(&info.name)
             .on_hover_text("Right-click: who wrote it, break on it, watch it")
-            .context_menu(|ui| super::breakpoints::location_menu(ui, &info.name, loc, out));
+            .context_menu(|ui| super::breakpoints::location_menu(ui, m, &info.name, loc, out));
         if let Some(alias) = info.alias {
             ui.label(RichText::new(alias).strong());
         }
@@ -610,6 +610,17 @@ fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView, out: &
                         shown = shown.italics();
                     }
                     ui.label(shown);
+                    if let Some(on) = m.forced(loc) {
+                        ui.label(
+                            RichText::new(if on { "F1" } else { "F0" })
+                                .strong()
+                                .color(egui::Color32::from_rgb(230, 120, 20)),
+                        )
+                        .on_hover_text(format!(
+                            "Forced {}: it holds whatever the program writes",
+                            if on { "ON" } else { "OFF" }
+                        ));
+                    }
                 });
                 row.col(|ui| {
                     ui.label(
@@ -648,7 +659,7 @@ fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView, out: &
                         ui.close();
                     }
                     ui.separator();
-                    super::breakpoints::location_menu(ui, &info.name, loc, out);
+                    super::breakpoints::location_menu(ui, m, &info.name, loc, out);
                 });
             });
         });

@@ -1038,5 +1038,6 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
     program.used_bits.dedup();
     program.flat = super::fast::flatten(&program.instrs);
     program.scan_writes = super::fast::scan_writes(&program.instrs);
+    program.ladder = std::sync::Arc::new(super::ladder::build(&program.instrs));
     Ok(program)
 }

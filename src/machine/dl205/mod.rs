@@ -11,6 +11,7 @@ pub mod assembler;
 pub mod dialect;
 pub mod explain;
 pub mod fast;
+pub mod ladder;
 #[cfg(feature = "gui")]
 pub mod panels;
 pub mod program;
@@ -125,6 +126,8 @@ pub struct Dl205 {
     pub calls: Vec<Frame>,
     /// Each stage's clean-up mark: it ran since it last turned off (spec §6.10).
     pub stage_marks: Vec<bool>,
+    /// Bits the user forced.
+    pub forces: crate::machine::plc::Forces,
     /// The last change of each stage bit the program changed.
     pub stage_changes: Vec<StageChange>,
     pub acc: u32,
@@ -189,6 +192,7 @@ impl Dl205 {
             loop_state: None,
             calls: Vec::new(),
             stage_marks: vec![false; Kind::S.count() as usize],
+            forces: Default::default(),
             stage_changes: Vec::new(),
             acc: 0,
             stack: [0; LEVELS],
@@ -1199,6 +1203,9 @@ impl crate::machine::ScanSteps for Dl205 {
     }
     fn run_instruction(&mut self) {
         self.execute();
+        if !self.forces.is_empty() {
+            self.hold_forces();
+        }
     }
     fn complete_empty_scan(&mut self) {
         self.tick += 1;
@@ -1210,7 +1217,10 @@ impl crate::machine::ScanSteps for Dl205 {
         self.program.instrs.len()
     }
     fn fast_scan(&mut self) -> bool {
-        self.scan_fast()
+        self.forces.is_empty() && self.scan_fast()
+    }
+    fn forcing(&self) -> bool {
+        !self.forces.is_empty()
     }
     fn scan_writes(&self) -> crate::machine::WriteSet {
         self.program.scan_writes

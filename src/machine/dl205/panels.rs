@@ -14,6 +14,8 @@ pub fn panels() -> Vec<Box<dyn DialectPanel>> {
     // Timers and stages first: they show only for programs that have them, and then they are
     // what the program is about (their tabs stay in view in a narrow pane).
     vec![
+        Box::new(crate::ui::ladder::LadderPanel::default()),
+        Box::new(crate::ui::io_board::IoBoard),
         Box::new(crate::machine::plc::panel::BoxesPanel {
             rows: |debugger| debugger.machine_as::<Dl205>().map(Dl205::boxes),
         }),

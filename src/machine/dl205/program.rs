@@ -429,6 +429,8 @@ pub struct Program {
     pub orout_bits: Vec<Bit>,
     /// Every timer and counter box, in program order.
     pub boxes: Vec<BoxDecl>,
+    /// The program as a ladder diagram.
+    pub ladder: std::sync::Arc<crate::machine::plc::ladder::Ladder>,
 }
 
 /// A timer or counter box of the program: for the Timers & counters panel, RST and the

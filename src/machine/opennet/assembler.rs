@@ -986,5 +986,6 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
     resolve(&mut program);
     program.flat = super::fast::flatten(&program.instrs, &program.opens);
     program.scan_writes = super::fast::scan_writes(&program.instrs);
+    program.ladder = std::sync::Arc::new(super::ladder::build(&program.instrs));
     Ok(program)
 }

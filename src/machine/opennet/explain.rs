@@ -1,7 +1,8 @@
 //! The last instruction in words: each REP cycle with its addresses and values, the signed
 //! overflow rule or the carry when they applied.
 
-use super::program::{Arith, Bit, CounterKind, Logic, Op, Ty, Value, Word, point_name};
+use super::ladder::bit_name;
+use super::program::{Arith, CounterKind, Logic, Op, Ty, Value, Word, point_name};
 use super::{Cycle, OpenNet};
 
 fn operand(w: &Word, offset: u32) -> String {
@@ -85,14 +86,6 @@ fn counter_text(m: &OpenNet, text: &str, kind: CounterKind, n: u32) -> String {
     format!("{text}: {inputs}: {what}; {out}")
 }
 
-fn bit_name(b: Bit) -> String {
-    match b {
-        Bit::Point(area, i) => point_name(area, i),
-        Bit::Special(s) => format!("M{}", super::program::SPECIAL[s as usize]),
-        Bit::Timer(n) => format!("T{n}"),
-        Bit::Counter(n) => format!("C{n}"),
-    }
-}
 
 fn stored(ty: Ty, c: &Cycle) -> String {
     let hex = if ty.words() == 1 {

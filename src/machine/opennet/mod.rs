@@ -12,6 +12,7 @@ pub mod assembler;
 pub mod dialect;
 pub mod explain;
 pub mod fast;
+pub mod ladder;
 #[cfg(feature = "gui")]
 pub mod panels;
 pub mod program;
@@ -132,6 +133,10 @@ pub struct OpenNet {
     /// SOTU/SOTD memories, and the pulse memories of counters and shift registers.
     pub edges: Edges,
     pub pulses: Edges,
+    /// Each SOTU/SOTD memory's last pulse: its scan plus one (the Ladder shows it conducting).
+    pub edge_scans: Vec<u64>,
+    /// Bits the user forced.
+    pub forces: crate::machine::plc::Forces,
     pub timers: Vec<TimerState>,
     pub counters: Vec<CounterState>,
     pub time: TimeBase,
@@ -181,6 +186,8 @@ impl OpenNet {
             blocks: Vec::new(),
             branches: Vec::new(),
             edges: Edges::new(program.edges as usize),
+            edge_scans: vec![0; program.edges as usize],
+            forces: Default::default(),
             pulses: Edges::new(program.pulses as usize),
             timers,
             counters,
@@ -436,6 +443,17 @@ impl OpenNet {
     #[inline(always)]
     fn sotu(&mut self, m: u32) {
         self.rlo = self.edges.rose(m as usize, self.rlo && self.mc);
+        self.note_pulse(m);
+    }
+
+    /// Remember the scan an edge instruction pulsed in (rare: only when it does).
+    #[inline(always)]
+    fn note_pulse(&mut self, m: u32) {
+        if self.rlo
+            && let Some(s) = self.edge_scans.get_mut(m as usize)
+        {
+            *s = self.tick + 1;
+        }
     }
 
     /// SOTD: with MC = 0 it gives 0 and forgets (no falling edge is seen, spec §5.12).
@@ -443,6 +461,7 @@ impl OpenNet {
     fn sotd(&mut self, m: u32) {
         if self.mc {
             self.rlo = self.edges.fell(m as usize, self.rlo);
+            self.note_pulse(m);
         } else {
             self.edges.rose(m as usize, false);
             self.rlo = false;
@@ -936,6 +955,9 @@ impl crate::machine::ScanSteps for OpenNet {
     }
     fn run_instruction(&mut self) {
         self.execute();
+        if !self.forces.is_empty() {
+            self.hold_forces();
+        }
     }
     fn complete_empty_scan(&mut self) {
         self.tick += 1;
@@ -947,7 +969,10 @@ impl crate::machine::ScanSteps for OpenNet {
         self.program.instrs.len()
     }
     fn fast_scan(&mut self) -> bool {
-        self.scan_fast()
+        self.forces.is_empty() && self.scan_fast()
+    }
+    fn forcing(&self) -> bool {
+        !self.forces.is_empty()
     }
     fn scan_writes(&self) -> crate::machine::WriteSet {
         self.program.scan_writes

@@ -14,6 +14,8 @@ use crate::ui::theme::palette;
 
 pub fn panels() -> Vec<Box<dyn DialectPanel>> {
     vec![
+        Box::new(crate::ui::ladder::LadderPanel::default()),
+        Box::new(crate::ui::io_board::IoBoard),
         Box::new(crate::machine::plc::panel::BoxesPanel {
             rows: |d: &Debugger| d.machine_as::<OpenNet>().map(OpenNet::timer_rows),
         }),

@@ -436,4 +436,6 @@ pub struct Program {
     pub flat: Vec<super::fast::Flat>,
     /// Every location a scan may write.
     pub scan_writes: crate::machine::WriteSet,
+    /// The program as a ladder diagram.
+    pub ladder: std::sync::Arc<crate::machine::plc::ladder::Ladder>,
 }

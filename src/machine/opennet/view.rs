@@ -432,7 +432,8 @@ impl MachineView for OpenNet {
         }
     }
     fn write(&mut self, loc: Loc, value: u64) -> Result<(), WriteError> {
-        crate::machine::check_write(self, loc, value)?;
+        let info = crate::machine::check_write(self, loc, value)?;
+        self.forces.check_write(loc, || info.name)?;
         let i = loc.index as usize;
         let on = value != 0;
         match loc.space {
@@ -450,6 +451,34 @@ impl MachineView for OpenNet {
         }
         Ok(())
     }
+    fn ladder(&self) -> Option<std::sync::Arc<crate::machine::plc::ladder::Ladder>> {
+        Some(self.program.ladder.clone())
+    }
+    fn ladder_conducts(&self, index: usize) -> bool {
+        self.conducts(index)
+    }
+    fn force(&mut self, loc: Loc, level: Option<bool>) -> Result<(), WriteError> {
+        let info = self.info(loc);
+        if !self.can_force(loc) {
+            return Err(match info {
+                Some(i) => WriteError::NotForceable(i.name),
+                None => WriteError::NoSuchLocation,
+            });
+        }
+        self.forces.set(loc, info, level)?;
+        self.hold_forces();
+        Ok(())
+    }
+    fn can_force(&self, loc: Loc) -> bool {
+        Self::forceable(loc.space) && self.info(loc).is_some()
+    }
+    fn forces(&self) -> Vec<(Loc, bool)> {
+        self.forces.0.clone()
+    }
+    fn forced(&self, loc: Loc) -> Option<bool> {
+        self.forces.get(loc)
+    }
+
     fn find(&self, name: &str) -> Option<Loc> {
         parse_name(name)
     }

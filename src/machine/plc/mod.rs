@@ -8,9 +8,55 @@
 //! the same on every machine and at every speed the window runs it.
 
 use super::registry::{SettingInfo, Settings};
+use super::{Loc, LocInfo, WriteError};
 
+pub mod ladder;
 #[cfg(feature = "gui")]
 pub mod panel;
+
+/// The bits a user forced, with their levels, in the order forced: each keeps its level
+/// whatever the program writes (DL250/260 "override", WindLDR "set/reset forced"). Part of the
+/// machine's state, so checkpoints, time travel and sessions carry them.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Forces(pub Vec<(Loc, bool)>);
+
+impl Forces {
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    pub fn get(&self, loc: Loc) -> Option<bool> {
+        self.0.iter().find(|(l, _)| *l == loc).map(|&(_, on)| on)
+    }
+
+    /// Force (Some) or release (None) `loc`, a bit described by `info`: only a one-bit location
+    /// a user may write can be forced.
+    pub fn set(
+        &mut self,
+        loc: Loc,
+        info: Option<LocInfo>,
+        level: Option<bool>,
+    ) -> Result<(), WriteError> {
+        let info = info.ok_or(WriteError::NoSuchLocation)?;
+        if info.width != 1 || !info.editable {
+            return Err(WriteError::NotForceable(info.name));
+        }
+        self.0.retain(|(l, _)| *l != loc);
+        if let Some(on) = level {
+            self.0.push((loc, on));
+        }
+        Ok(())
+    }
+
+    /// A user's write to a forced bit is refused: the force decides its level.
+    pub fn check_write(&self, loc: Loc, name: impl FnOnce() -> String) -> Result<(), WriteError> {
+        match self.get(loc) {
+            Some(on) => Err(WriteError::Forced { name: name(), on }),
+            None => Ok(()),
+        }
+    }
+}
 
 /// The `scan_ms` setting every scanned PLC offers: the controller time one scan takes.
 pub const SCAN_MS: SettingInfo = SettingInfo {

@@ -1,0 +1,516 @@
+//! The Ladder panel of the scanned PLCs: the program as rungs between two rails, drawn from the
+//! core's [`Ladder`] model with the power flow at the current position (energised wires and
+//! conducting contacts in the "on" colour), live values in the boxes, forced bits marked, and
+//! inside a scan the rungs not evaluated yet drawn as such. Only the rungs on screen are drawn.
+//!
+//! Click an element: the program goes to its line and the registers to its operand. Click a
+//! rung's left rail: a breakpoint on its first line. Hover: the value in every format.
+//! Right-click a bit: force it, or release it.
+
+use std::sync::Arc;
+
+use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Stroke, pos2, vec2};
+
+use super::Command;
+use super::panels::DialectPanel;
+use super::theme::palette;
+use crate::debugger::Debugger;
+use crate::machine::plc::ladder::{
+    self, CoilKind, EdgeKind, Element, Ladder, Rung, RungPower, RungState, Symbol,
+};
+use crate::machine::{LinePower, MachineView, value::Format};
+
+pub const TITLE: &str = "Ladder";
+
+const CELL_W: f32 = 96.0;
+const CELL_H: f32 = 56.0;
+const LEFT: f32 = 22.0;
+const GAP: f32 = 12.0;
+const COMMENT_H: f32 = 15.0;
+/// Rung comment lines the panel shows.
+const COMMENT_LINES: usize = 2;
+
+/// The diagram of the program now in the debugger, with its comments, and where each rung
+/// starts on the canvas.
+struct Drawn {
+    source: Arc<Ladder>,
+    ladder: Ladder,
+    tops: Vec<f32>,
+    height: f32,
+}
+
+#[derive(Default)]
+pub struct LadderPanel {
+    drawn: Option<Drawn>,
+}
+
+fn rung_height(r: &Rung) -> f32 {
+    let comments = r.comment.lines().take(COMMENT_LINES).count() as f32;
+    comments * COMMENT_H + f32::from(r.rows) * CELL_H + GAP
+}
+
+impl LadderPanel {
+    /// The diagram for `d`'s program, rebuilt when the program changed.
+    fn drawn(&mut self, d: &Debugger) -> Option<&Drawn> {
+        let m = d.machine();
+        let source = m.ladder()?;
+        let stale = self
+            .drawn
+            .as_ref()
+            .is_none_or(|dr| !Arc::ptr_eq(&dr.source, &source));
+        if stale {
+            let ladder = ladder::with_comments(m, d.source(), d.dialect().classify)?;
+            let mut tops = Vec::with_capacity(ladder.rungs.len());
+            let mut y = 4.0;
+            for r in &ladder.rungs {
+                tops.push(y);
+                y += rung_height(r);
+            }
+            self.drawn = Some(Drawn {
+                source,
+                ladder,
+                tops,
+                height: y,
+            });
+        }
+        self.drawn.as_ref()
+    }
+}
+
+/// Colours of the drawing.
+struct Ink {
+    on: Color32,
+    off: Color32,
+    text: Color32,
+    dim: Color32,
+    comment: Color32,
+    forced: Color32,
+    current: Color32,
+    breakpoint: Color32,
+}
+
+impl DialectPanel for LadderPanel {
+    fn title(&self) -> &'static str {
+        TITLE
+    }
+    fn has_content(&self, debugger: &Debugger) -> bool {
+        debugger.machine().ladder().is_some()
+    }
+    fn show(&mut self, ui: &mut egui::Ui, debugger: &Debugger, _: f32, out: &mut Vec<Command>) {
+        let p = palette(ui.visuals().dark_mode);
+        let ink = Ink {
+            on: Color32::from_rgb(40, 170, 70),
+            off: p.dim,
+            text: p.text,
+            dim: p.dim,
+            comment: p.comment,
+            forced: Color32::from_rgb(230, 120, 20),
+            current: p.current_line,
+            breakpoint: p.breakpoint,
+        };
+        let Some(drawn) = self.drawn(debugger) else {
+            return;
+        };
+        let m = debugger.machine();
+        if drawn.ladder.rungs.is_empty() {
+            ui.label("This program has no rungs.");
+            return;
+        }
+        // Per frame: the power of each line once, not per rung.
+        let lines: std::collections::HashMap<usize, LinePower> =
+            m.line_power().into_iter().collect();
+        let breakpoints = debugger.breakpoints();
+        let pc = m.pc_line();
+        let now = m.pos();
+        let width = LEFT * 2.0 + f32::from(drawn.ladder.last_col + 1) * CELL_W;
+        egui::ScrollArea::both()
+            .id_salt("ladder_scroll")
+            .auto_shrink([false, false])
+            .show_viewport(ui, |ui, viewport| {
+                let (rect, _) = ui.allocate_exact_size(vec2(width, drawn.height), Sense::hover());
+                let origin = rect.min;
+                let first = drawn
+                    .tops
+                    .partition_point(|&t| t < viewport.min.y)
+                    .saturating_sub(1);
+                for (k, rung) in drawn.ladder.rungs.iter().enumerate().skip(first) {
+                    let top = drawn.tops[k];
+                    if top > viewport.max.y {
+                        break;
+                    }
+                    let first_line = rung.first_line();
+                    let state = match lines.get(&first_line) {
+                        Some(LinePower::NotRun) => RungState::NotRun,
+                        Some(LinePower::MasterOff) => RungState::MasterOff,
+                        _ if now.step > 0 && pc.is_some_and(|pc| first_line >= pc) => {
+                            RungState::NotYet
+                        }
+                        _ => RungState::Done,
+                    };
+                    let power = RungPower::of(rung, state, |i| m.ladder_conducts(i));
+                    let here = pc.is_some_and(|pc| rung.elements.iter().any(|e| e.line == pc));
+                    let drawing = RungDrawing {
+                        rung,
+                        index: k,
+                        power: &power,
+                        origin: origin + vec2(0.0, top),
+                        cols: drawn.ladder.last_col + 1,
+                        ink: &ink,
+                        here,
+                        breakpoint: breakpoints.contains(&first_line),
+                    };
+                    drawing.show(ui, m, out);
+                }
+            });
+    }
+}
+
+struct RungDrawing<'a> {
+    rung: &'a Rung,
+    index: usize,
+    power: &'a RungPower,
+    origin: Pos2,
+    cols: u16,
+    ink: &'a Ink,
+    here: bool,
+    breakpoint: bool,
+}
+
+impl RungDrawing<'_> {
+    fn lit(&self, node: u32) -> bool {
+        self.power.state == RungState::Done
+            && self.power.node.get(node as usize).copied().unwrap_or(false)
+    }
+
+    fn wire(&self, lit: bool) -> Stroke {
+        if lit {
+            Stroke::new(3.0, self.ink.on)
+        } else {
+            Stroke::new(1.5, self.ink.off)
+        }
+    }
+
+    fn show(&self, ui: &mut egui::Ui, m: &dyn MachineView, out: &mut Vec<Command>) {
+        let painter = ui.painter().clone();
+        let rung = self.rung;
+        let comments: Vec<&str> = rung.comment.lines().take(COMMENT_LINES).collect();
+        let top = self.origin.y + comments.len() as f32 * COMMENT_H;
+        let height = f32::from(rung.rows) * CELL_H;
+        let right = self.origin.x + LEFT + f32::from(self.cols) * CELL_W;
+        let body = Rect::from_min_max(pos2(self.origin.x, top), pos2(right + LEFT, top + height));
+        if self.here {
+            painter.rect_filled(body, 2.0, self.ink.current);
+        }
+        for (i, c) in comments.iter().enumerate() {
+            painter.text(
+                pos2(self.origin.x + LEFT, self.origin.y + i as f32 * COMMENT_H),
+                Align2::LEFT_TOP,
+                ladder::fit(c, ((right - self.origin.x) / 6.6) as usize),
+                FontId::monospace(10.5),
+                self.ink.comment,
+            );
+        }
+        let note = match self.power.state {
+            RungState::Done => None,
+            RungState::NotYet => Some("not yet this scan"),
+            RungState::NotRun => Some("not run this scan"),
+            RungState::MasterOff => Some("MC off: outputs off"),
+        };
+        if let Some(note) = note {
+            painter.text(
+                pos2(right - 4.0, top + 2.0),
+                Align2::RIGHT_TOP,
+                note,
+                FontId::proportional(10.0),
+                self.ink.dim,
+            );
+        }
+        // The rails; the left one is where a click sets a breakpoint.
+        let rail_x = self.origin.x + LEFT;
+        let rail = Rect::from_min_max(pos2(self.origin.x, top), pos2(rail_x + 6.0, top + height));
+        let rail_id = ui.scope_id().with(("ladder_rail", self.index));
+        let rail_response = ui.interact(rail, rail_id, Sense::click());
+        let rail_label = format!("Ladder rung {} rail", self.index);
+        rail_response
+            .widget_info(|| egui::WidgetInfo::labeled(egui::Role::Button, true, &rail_label));
+        let rail_response = rail_response.on_hover_text(format!(
+            "Rung {} (line {}): click to toggle a breakpoint",
+            self.index,
+            rung.first_line()
+        ));
+        if rail_response.clicked() {
+            out.push(Command::ToggleBreakpoint(rung.first_line()));
+        }
+        painter.line_segment(
+            [pos2(rail_x, top), pos2(rail_x, top + height)],
+            self.wire(self.power.state == RungState::Done),
+        );
+        painter.line_segment(
+            [pos2(right, top), pos2(right, top + height)],
+            Stroke::new(1.5, self.ink.off),
+        );
+        if self.breakpoint {
+            painter.circle_filled(
+                pos2(self.origin.x + 9.0, top + CELL_H / 2.0),
+                6.0,
+                self.ink.breakpoint,
+            );
+        }
+        let x_of = |c: u16| rail_x + f32::from(c) * CELL_W;
+        let y_of = |r: u16| top + f32::from(r) * CELL_H + CELL_H / 2.0;
+        for f in &rung.fillers {
+            painter.line_segment(
+                [
+                    pos2(x_of(f.from_col), y_of(f.row)),
+                    pos2(x_of(f.to_col), y_of(f.row)),
+                ],
+                self.wire(self.lit(f.node)),
+            );
+        }
+        for v in &rung.verticals {
+            painter.line_segment(
+                [
+                    pos2(x_of(v.col), y_of(v.top)),
+                    pos2(x_of(v.col), y_of(v.bottom)),
+                ],
+                self.wire(self.lit(v.node)),
+            );
+        }
+        for (i, e) in rung.elements.iter().enumerate() {
+            let col = if e.to.is_none() { self.cols - 1 } else { e.col };
+            let x = x_of(col);
+            let yc = y_of(e.row);
+            if e.to.is_none() {
+                for (&f, &row) in e.from.iter().zip(&e.leg_rows) {
+                    let from = rung.node_col.get(f as usize).copied().unwrap_or(0);
+                    if from < col {
+                        painter.line_segment(
+                            [pos2(x_of(from), y_of(row)), pos2(x, y_of(row))],
+                            self.wire(self.lit(f)),
+                        );
+                    }
+                }
+            }
+            let shown = self.power.state == RungState::Done
+                && self.power.element.get(i).copied().unwrap_or(false);
+            let cell = Rect::from_min_size(
+                pos2(x, yc - CELL_H / 2.0),
+                vec2(CELL_W, f32::from(e.height) * CELL_H),
+            );
+            self.element(&painter, e, cell, shown, m);
+            let id = ui.scope_id().with(("ladder_element", self.index, i));
+            let response = ui.interact(cell.shrink(4.0), id, Sense::click());
+            let label = format!("Ladder {} line {}", e.operand, e.line);
+            response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Button, true, &label));
+            let response = response.on_hover_ui(|ui| hover(ui, e, m));
+            if response.clicked() {
+                out.push(Command::ShowLine(e.line));
+                if let Some(loc) = m.find(&e.operand) {
+                    out.push(Command::SelectLocation(loc));
+                }
+            }
+            if let Some(loc) = m.find(&e.operand).filter(|&l| m.can_force(l)) {
+                response.context_menu(|ui| {
+                    super::breakpoints::force_items(ui, &e.operand, loc, m.forced(loc), out);
+                });
+            }
+        }
+    }
+
+    fn element(
+        &self,
+        painter: &egui::Painter,
+        e: &Element,
+        cell: Rect,
+        shown: bool,
+        m: &dyn MachineView,
+    ) {
+        let ink = self.ink;
+        let yc = cell.min.y + CELL_H / 2.0;
+        let mid = cell.center().x;
+        let input_lit = e.from.first().is_some_and(|&f| self.lit(f));
+        let out_lit = e.to.is_some_and(|t| self.lit(t));
+        let symbol_stroke = if shown {
+            Stroke::new(2.5, ink.on)
+        } else {
+            Stroke::new(1.5, ink.text)
+        };
+        let small = FontId::proportional(11.0);
+        let forced = m.find(&e.operand).and_then(|loc| m.forced(loc));
+        match e.symbol {
+            Symbol::Box => {
+                for (&f, &row) in e.from.iter().zip(&e.leg_rows) {
+                    let y = cell.min.y + f32::from(row - e.row) * CELL_H + CELL_H / 2.0;
+                    painter.line_segment(
+                        [pos2(cell.min.x, y), pos2(cell.min.x + 8.0, y)],
+                        self.wire(self.lit(f)),
+                    );
+                }
+                let body = cell.shrink2(vec2(8.0, 6.0));
+                painter.rect_stroke(body, 3.0, symbol_stroke, egui::StrokeKind::Inside);
+                let mut lines = vec![ladder::fit(&e.text, 14)];
+                lines.extend(
+                    e.values
+                        .iter()
+                        .map(|v| ladder::fit(&ladder::value_text(m, v), 15)),
+                );
+                for (j, l) in lines.iter().enumerate() {
+                    painter.text(
+                        pos2(mid, body.min.y + 4.0 + j as f32 * 14.0),
+                        Align2::CENTER_TOP,
+                        l,
+                        small.clone(),
+                        if j == 0 { ink.text } else { ink.dim },
+                    );
+                }
+            }
+            _ => {
+                let (l, r) = (mid - 10.0, mid + 10.0);
+                painter.line_segment([pos2(cell.min.x, yc), pos2(l, yc)], self.wire(input_lit));
+                painter.line_segment(
+                    [pos2(r, yc), pos2(cell.max.x, yc)],
+                    self.wire(if e.to.is_some() { out_lit } else { input_lit }),
+                );
+                match e.symbol {
+                    Symbol::Coil(kind) => {
+                        arc(painter, pos2(mid, yc), 13.0, true, symbol_stroke);
+                        arc(painter, pos2(mid, yc), 13.0, false, symbol_stroke);
+                        let letters = match kind {
+                            CoilKind::Out => "",
+                            k => ladder::coil_letters(k),
+                        };
+                        painter.text(
+                            pos2(mid, yc),
+                            Align2::CENTER_CENTER,
+                            letters,
+                            FontId::proportional(10.0),
+                            ink.text,
+                        );
+                    }
+                    _ => {
+                        if shown {
+                            painter.rect_filled(
+                                Rect::from_center_size(pos2(mid, yc), vec2(20.0, 24.0)),
+                                0.0,
+                                ink.on.gamma_multiply(0.35),
+                            );
+                        }
+                        for x in [l, r] {
+                            painter.line_segment(
+                                [pos2(x, yc - 12.0), pos2(x, yc + 12.0)],
+                                symbol_stroke,
+                            );
+                        }
+                        let edge = match e.symbol {
+                            Symbol::Contact { edge, .. } => edge,
+                            Symbol::PowerEdge(edge) => Some(edge),
+                            _ => None,
+                        };
+                        if let Some(edge) = edge {
+                            // An arrow drawn, not a glyph: every font has lines.
+                            let (tip, tail) = match edge {
+                                EdgeKind::Rising => (yc - 8.0, yc + 8.0),
+                                EdgeKind::Falling => (yc + 8.0, yc - 8.0),
+                            };
+                            let head = if tip < tail { 4.0 } else { -4.0 };
+                            let arrow = Stroke::new(1.5, ink.text);
+                            painter.line_segment([pos2(mid, tail), pos2(mid, tip)], arrow);
+                            painter
+                                .line_segment([pos2(mid, tip), pos2(mid - 4.0, tip + head)], arrow);
+                            painter
+                                .line_segment([pos2(mid, tip), pos2(mid + 4.0, tip + head)], arrow);
+                        }
+                        let mark = match e.symbol {
+                            Symbol::Contact { closed: true, .. } => "/",
+                            Symbol::Invert => "NOT",
+                            Symbol::Compare => "CMP",
+                            _ => "",
+                        };
+                        painter.text(
+                            pos2(mid, yc),
+                            Align2::CENTER_CENTER,
+                            mark,
+                            FontId::proportional(if mark.len() > 1 { 9.0 } else { 13.0 }),
+                            ink.text,
+                        );
+                    }
+                }
+                painter.text(
+                    pos2(mid, yc - 15.0),
+                    Align2::CENTER_BOTTOM,
+                    ladder::fit(&e.text, 15),
+                    small.clone(),
+                    ink.text,
+                );
+                if !e.comment.is_empty() {
+                    painter.text(
+                        pos2(mid, yc + 15.0),
+                        Align2::CENTER_TOP,
+                        ladder::fit(&e.comment, 15),
+                        FontId::monospace(9.0),
+                        ink.comment,
+                    );
+                }
+            }
+        }
+        if let Some(on) = forced {
+            let badge =
+                Rect::from_min_size(pos2(cell.max.x - 22.0, cell.min.y + 2.0), vec2(20.0, 13.0));
+            painter.rect_filled(badge, 3.0, ink.forced);
+            painter.text(
+                badge.center(),
+                Align2::CENTER_CENTER,
+                if on { "F1" } else { "F0" },
+                FontId::proportional(9.0),
+                Color32::WHITE,
+            );
+        }
+    }
+}
+
+/// Half a coil: the left `(` or the right `)`.
+fn arc(painter: &egui::Painter, c: Pos2, r: f32, left: bool, stroke: Stroke) {
+    let points: Vec<Pos2> = (0..=12)
+        .map(|k| {
+            let a = -0.9 + 1.8 * k as f32 / 12.0;
+            let (s, co) = a.sin_cos();
+            let dx = if left { -r * co } else { r * co };
+            pos2(c.x + dx, c.y + r * s)
+        })
+        .collect();
+    painter.add(egui::Shape::line(points, stroke));
+}
+
+/// The hover card of an element: its line, operand and values in every format.
+fn hover(ui: &mut egui::Ui, e: &Element, m: &dyn MachineView) {
+    ui.label(format!("line {}: {}", e.line, e.text));
+    if !e.comment.is_empty() {
+        ui.label(egui::RichText::new(&e.comment).italics());
+    }
+    let names: Vec<&str> = std::iter::once(e.operand.as_str())
+        .chain(e.values.iter().map(String::as_str))
+        .collect();
+    for name in names {
+        let Some(loc) = m.find(name) else { continue };
+        let Some(info) = m.info(loc) else { continue };
+        let raw = m.read(loc);
+        if info.width == 1 {
+            let forced = match m.forced(loc) {
+                Some(true) => " — forced ON",
+                Some(false) => " — forced OFF",
+                None => "",
+            };
+            ui.label(format!(
+                "{} = {}{forced}",
+                info.name,
+                if raw != 0 { "ON" } else { "OFF" }
+            ));
+        } else {
+            ui.label(format!("{} =", info.name));
+            for f in Format::ALL {
+                ui.label(format!("    {}: {}", f.name(), f.show(raw, info.width)));
+            }
+        }
+    }
+    ui.label(egui::RichText::new("Click: its line and register · right-click: force").weak());
+}
