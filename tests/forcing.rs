@@ -6,8 +6,8 @@
 use std::process::Command;
 
 use servoscope::debugger::{Debugger, EditError, Event};
-use servoscope::machine::registry::by_name;
 use servoscope::machine::WriteError;
+use servoscope::machine::registry::by_name;
 use servoscope::session::{Session, ViewSettings};
 
 fn debugger(dialect: &str, source: &str) -> Debugger {

@@ -26,6 +26,8 @@ const CELL_W: f32 = 96.0;
 const CELL_H: f32 = 56.0;
 const LEFT: f32 = 22.0;
 const GAP: f32 = 12.0;
+/// Room right of the right rail for a rung's state ("not yet / this scan").
+const NOTE_W: f32 = 64.0;
 const COMMENT_H: f32 = 15.0;
 /// Rung comment lines the panel shows.
 const COMMENT_LINES: usize = 2;
@@ -122,7 +124,7 @@ impl DialectPanel for LadderPanel {
         let breakpoints = debugger.breakpoints();
         let pc = m.pc_line();
         let now = m.pos();
-        let width = LEFT * 2.0 + f32::from(drawn.ladder.last_col + 1) * CELL_W;
+        let width = LEFT + NOTE_W + f32::from(drawn.ladder.last_col + 1) * CELL_W;
         egui::ScrollArea::both()
             .id_salt("ladder_scroll")
             .auto_shrink([false, false])
@@ -217,10 +219,11 @@ impl RungDrawing<'_> {
             RungState::MasterOff => Some("MC off: outputs off"),
         };
         if let Some(note) = note {
+            // Right of the right rail, where no element stands.
             painter.text(
-                pos2(right - 4.0, top + 2.0),
-                Align2::RIGHT_TOP,
-                note,
+                pos2(right + 6.0, top + 4.0),
+                Align2::LEFT_TOP,
+                note.replacen(' ', "\n", 1),
                 FontId::proportional(10.0),
                 self.ink.dim,
             );

@@ -190,6 +190,7 @@ impl Layout {
         let (beside_program, dialect_panels): (Vec<&str>, Vec<&str>) = dialect_panels
             .iter()
             .partition(|t| BESIDE_PROGRAM.contains(t));
+        let wide_left = !beside_program.is_empty();
         let program = match beside_program.as_slice() {
             [] => program,
             titles => {
@@ -204,7 +205,7 @@ impl Layout {
                 let shares: Vec<(TileId, f32)> = ids
                     .iter()
                     .enumerate()
-                    .map(|(i, &id)| (id, if i == 0 { 1.0 } else { 1.2 }))
+                    .map(|(i, &id)| (id, if i == 0 { 1.3 } else { 1.0 }))
                     .collect();
                 set_shares(&mut tiles, row_id, &shares);
                 row_id
@@ -246,7 +247,9 @@ impl Layout {
         let mut shares: Vec<(TileId, f32)> = beside_plot.into_iter().map(|t| (t, 1.0)).collect();
         shares.push((plot, 0.8));
         set_shares(&mut tiles, lower, &shares);
-        set_shares(&mut tiles, root, &[(left, 3.0), (right, 2.0)]);
+        // A ladder beside the program takes its room from the right column.
+        let left_share = if wide_left { 3.5 } else { 3.0 };
+        set_shares(&mut tiles, root, &[(left, left_share), (right, 2.0)]);
         Layout {
             tree: Tree::new(egui::Id::unique(TREE_ID), root, tiles),
             places: Vec::new(),
@@ -453,7 +456,7 @@ impl Layout {
             return;
         }
         let row = self.tree.tiles.insert_horizontal_tile(vec![anchor, id]);
-        set_shares(&mut self.tree.tiles, row, &[(anchor, 1.0), (id, 1.2)]);
+        set_shares(&mut self.tree.tiles, row, &[(anchor, 1.3), (id, 1.0)]);
         match parent {
             Some(parent) => {
                 if let Some(egui_tiles::Tile::Container(c)) = self.tree.tiles.get_mut(parent) {

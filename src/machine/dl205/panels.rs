@@ -15,13 +15,13 @@ pub fn panels() -> Vec<Box<dyn DialectPanel>> {
     // what the program is about (their tabs stay in view in a narrow pane).
     vec![
         Box::new(crate::ui::ladder::LadderPanel::default()),
-        Box::new(crate::ui::io_board::IoBoard),
         Box::new(crate::machine::plc::panel::BoxesPanel {
             rows: |debugger| debugger.machine_as::<Dl205>().map(Dl205::boxes),
         }),
         Box::new(StagesPanel),
         Box::new(StackPanel::default()),
         Box::new(RungPanel),
+        Box::new(crate::ui::io_board::IoBoard),
     ]
 }
 

@@ -15,12 +15,12 @@ use crate::ui::theme::palette;
 pub fn panels() -> Vec<Box<dyn DialectPanel>> {
     vec![
         Box::new(crate::ui::ladder::LadderPanel::default()),
-        Box::new(crate::ui::io_board::IoBoard),
         Box::new(crate::machine::plc::panel::BoxesPanel {
             rows: |d: &Debugger| d.machine_as::<OpenNet>().map(OpenNet::timer_rows),
         }),
         Box::new(DataPanel::default()),
         Box::new(LogicPanel),
+        Box::new(crate::ui::io_board::IoBoard),
     ]
 }
 
