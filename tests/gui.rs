@@ -1272,6 +1272,8 @@ fn sp0_and_sp1_are_unlit_before_the_first_scan() {
     let dl205 = servoscope::machine::registry::by_name("dl205").expect("registered");
     let mut app = ServoscopeApp::new(Prefs::default());
     app.load_program_as(dl205, "sp.dl205", "STR X0\nOUT Y0\nEND");
+    // A PLC opens with its I/O board in front of Bits: bring Bits forward.
+    app.layout.focus(&servoscope::ui::layout::Pane::Bits);
     let mut h = harness(app);
     h.get_by_label("SP0 not driven before the first scan");
     h.get_by_label("SP1 not driven before the first scan");

@@ -22,12 +22,12 @@ use crate::machine::{LinePower, MachineView, value::Format};
 
 pub const TITLE: &str = "Ladder";
 
-const CELL_W: f32 = 96.0;
-const CELL_H: f32 = 56.0;
+const CELL_W: f32 = 84.0;
+const CELL_H: f32 = 72.0;
 const LEFT: f32 = 22.0;
 const GAP: f32 = 12.0;
 /// Room right of the right rail for a rung's state ("not yet / this scan").
-const NOTE_W: f32 = 64.0;
+const NOTE_W: f32 = 56.0;
 const COMMENT_H: f32 = 15.0;
 /// Rung comment lines the panel shows.
 const COMMENT_LINES: usize = 2;
@@ -44,6 +44,8 @@ struct Drawn {
 #[derive(Default)]
 pub struct LadderPanel {
     drawn: Option<Drawn>,
+    /// The line the view last followed: stepping onto another rung brings it into view.
+    followed: Option<usize>,
 }
 
 fn rung_height(r: &Rung) -> f32 {
@@ -110,6 +112,8 @@ impl DialectPanel for LadderPanel {
             current: p.current_line,
             breakpoint: p.breakpoint,
         };
+        let pc = debugger.machine().pc_line();
+        let followed = std::mem::replace(&mut self.followed, pc);
         let Some(drawn) = self.drawn(debugger) else {
             return;
         };
@@ -125,12 +129,33 @@ impl DialectPanel for LadderPanel {
         let pc = m.pc_line();
         let now = m.pos();
         let width = LEFT + NOTE_W + f32::from(drawn.ladder.last_col + 1) * CELL_W;
+        // The rung holding the line about to run, when the position moved there.
+        let moved = pc != followed;
+        let follow = moved
+            .then(|| {
+                let pc = pc?;
+                drawn
+                    .ladder
+                    .rungs
+                    .iter()
+                    .position(|r| r.elements.iter().any(|e| e.line == pc))
+            })
+            .flatten();
         egui::ScrollArea::both()
             .id_salt("ladder_scroll")
             .auto_shrink([false, false])
             .show_viewport(ui, |ui, viewport| {
                 let (rect, _) = ui.allocate_exact_size(vec2(width, drawn.height), Sense::hover());
                 let origin = rect.min;
+                if let Some(k) = follow {
+                    let top = drawn.tops[k];
+                    let bottom = drawn.tops.get(k + 1).copied().unwrap_or(drawn.height);
+                    let rung = Rect::from_min_max(
+                        origin + vec2(0.0, top),
+                        origin + vec2(width.min(ui.clip_rect().width()), bottom),
+                    );
+                    ui.scroll_to_rect(rung, None);
+                }
                 let first = drawn
                     .tops
                     .partition_point(|&t| t < viewport.min.y)
@@ -318,6 +343,12 @@ impl RungDrawing<'_> {
                 });
             }
         }
+        // A rung this scan has not evaluated (yet) is veiled, as the code view veils its lines:
+        // its state reads even where the note beside the rail is scrolled out of view.
+        if self.power.state != RungState::Done {
+            let veil = ui.visuals().panel_fill.gamma_multiply(0.55);
+            painter.rect_filled(body, 0.0, veil);
+        }
     }
 
     fn element(
@@ -351,18 +382,14 @@ impl RungDrawing<'_> {
                 }
                 let body = cell.shrink2(vec2(8.0, 6.0));
                 painter.rect_stroke(body, 3.0, symbol_stroke, egui::StrokeKind::Inside);
-                let mut lines = vec![ladder::fit(&e.text, 14)];
-                lines.extend(
-                    e.values
-                        .iter()
-                        .map(|v| ladder::fit(&ladder::value_text(m, v), 15)),
-                );
+                let mut lines = vec![ladder::fit(&e.text, 12)];
+                lines.extend(e.values.iter().map(|v| box_value(m, v)));
                 for (j, l) in lines.iter().enumerate() {
                     painter.text(
                         pos2(mid, body.min.y + 4.0 + j as f32 * 14.0),
                         Align2::CENTER_TOP,
                         l,
-                        small.clone(),
+                        FontId::proportional(if l.chars().count() > 11 { 9.5 } else { 11.0 }),
                         if j == 0 { ink.text } else { ink.dim },
                     );
                 }
@@ -376,6 +403,12 @@ impl RungDrawing<'_> {
                 );
                 match e.symbol {
                     Symbol::Coil(kind) => {
+                        // The coil's bit itself: filled while it is on (a forced or earlier
+                        // rung may hold it on whatever power this rung gives it now).
+                        let bit_on = m.find(&e.operand).is_some_and(|loc| m.read(loc) != 0);
+                        if bit_on {
+                            painter.circle_filled(pos2(mid, yc), 11.0, ink.on.gamma_multiply(0.35));
+                        }
                         arc(painter, pos2(mid, yc), 13.0, true, symbol_stroke);
                         arc(painter, pos2(mid, yc), 13.0, false, symbol_stroke);
                         let letters = match kind {
@@ -438,18 +471,20 @@ impl RungDrawing<'_> {
                         );
                     }
                 }
+                // The name above the symbol and its line's comment above the name, as
+                // DirectSOFT and WindLDR put nicknames and comments.
                 painter.text(
-                    pos2(mid, yc - 15.0),
+                    pos2(mid, yc - 12.0),
                     Align2::CENTER_BOTTOM,
-                    ladder::fit(&e.text, 15),
+                    ladder::fit(&e.text, 13),
                     small.clone(),
                     ink.text,
                 );
                 if !e.comment.is_empty() {
                     painter.text(
-                        pos2(mid, yc + 15.0),
-                        Align2::CENTER_TOP,
-                        ladder::fit(&e.comment, 15),
+                        pos2(mid, yc - 24.0),
+                        Align2::CENTER_BOTTOM,
+                        ladder::fit(&e.comment, 13),
                         FontId::monospace(9.0),
                         ink.comment,
                     );
@@ -468,6 +503,19 @@ impl RungDrawing<'_> {
                 Color32::WHITE,
             );
         }
+    }
+}
+
+/// A live value as a box line that fits its width: `TA1 = 29`, or for a long name its field
+/// alone (`current = 30` under `TIM T0 30`), the value always whole.
+fn box_value(m: &dyn MachineView, name: &str) -> String {
+    let full = ladder::value_text(m, name);
+    if full.chars().count() <= 13 {
+        return full;
+    }
+    match (name.split_once('.'), full.split_once(" = ")) {
+        (Some((_, field)), Some((_, value))) => format!("{field} = {value}"),
+        _ => full,
     }
 }
 

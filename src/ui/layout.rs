@@ -88,6 +88,8 @@ pub fn panes_before_debugger_panels() -> Vec<String> {
 
 /// Dialect panels that open beside the Program panel rather than beside the plot.
 const BESIDE_PROGRAM: [&str; 1] = [super::ladder::TITLE];
+/// Dialect panels that open as the front tab of the Bits stack (a PLC's I/O board is its bits).
+const WITH_BITS: [&str; 1] = [super::io_board::TITLE];
 
 /// Below this no tile can be dragged smaller.
 const MIN_TILE: f32 = 40.0;
@@ -190,6 +192,8 @@ impl Layout {
         let (beside_program, dialect_panels): (Vec<&str>, Vec<&str>) = dialect_panels
             .iter()
             .partition(|t| BESIDE_PROGRAM.contains(t));
+        let (with_bits, dialect_panels): (Vec<&str>, Vec<&str>) =
+            dialect_panels.iter().partition(|t| WITH_BITS.contains(t));
         let wide_left = !beside_program.is_empty();
         let program = match beside_program.as_slice() {
             [] => program,
@@ -202,11 +206,9 @@ impl Layout {
                 );
                 let ids = row.clone();
                 let row_id = tiles.insert_horizontal_tile(row);
-                let shares: Vec<(TileId, f32)> = ids
-                    .iter()
-                    .enumerate()
-                    .map(|(i, &id)| (id, if i == 0 { 1.3 } else { 1.0 }))
-                    .collect();
+                // Equal halves: the program at its minimum in a 900-px window, the ladder's
+                // four cells of a typical rung in view at 1280.
+                let shares: Vec<(TileId, f32)> = ids.iter().map(|&id| (id, 1.0)).collect();
                 set_shares(&mut tiles, row_id, &shares);
                 row_id
             }
@@ -233,7 +235,12 @@ impl Layout {
         let breakpoints = tiles.insert_pane(Pane::Breakpoints);
         let watches = tiles.insert_pane(Pane::Watches);
         let log = tiles.insert_pane(Pane::Log);
-        let bits = tiles.insert_tab_tile(vec![bits, breakpoints, watches, log]);
+        let mut bit_tabs: Vec<TileId> = with_bits
+            .iter()
+            .map(|t| tiles.insert_pane(Pane::Dialect((*t).to_string())))
+            .collect();
+        bit_tabs.extend([bits, breakpoints, watches, log]);
+        let bits = tiles.insert_tab_tile(bit_tabs);
         let right = tiles.insert_vertical_tile(vec![registers, bits]);
         let root = tiles.insert_horizontal_tile(vec![left, right]);
         set_shares(
@@ -456,7 +463,7 @@ impl Layout {
             return;
         }
         let row = self.tree.tiles.insert_horizontal_tile(vec![anchor, id]);
-        set_shares(&mut self.tree.tiles, row, &[(anchor, 1.3), (id, 1.0)]);
+        set_shares(&mut self.tree.tiles, row, &[(anchor, 1.0), (id, 1.0)]);
         match parent {
             Some(parent) => {
                 if let Some(egui_tiles::Tile::Container(c)) = self.tree.tiles.get_mut(parent) {
@@ -496,6 +503,13 @@ impl Layout {
             titles.iter().partition(|t| BESIDE_PROGRAM.contains(t));
         for t in beside_program {
             self.put_beside_program(Pane::Dialect(t.to_string()));
+        }
+        let (with_bits, titles): (Vec<&str>, Vec<&str>) =
+            titles.iter().partition(|t| WITH_BITS.contains(t));
+        for t in with_bits {
+            let pane = Pane::Dialect(t.to_string());
+            self.add_beside(pane.clone(), &Pane::Bits);
+            self.focus(&pane);
         }
         if titles.is_empty() {
             return;

@@ -60,9 +60,16 @@ fn coil(i: usize, ins: &Instr, kind: CoilKind, b: Bit, last: Option<Bit>) -> Ele
 
 /// A box: its mnemonic as the operand, its text as written, the values it shows live.
 fn boxed(i: usize, ins: &Instr) -> Element {
+    // A preset in a V word is shown beside the current value.
+    let preset = |p: super::program::Preset| match p {
+        super::program::Preset::Word(a) | super::program::Preset::Pair(a) => {
+            Some(format!("V{a:o}"))
+        }
+        super::program::Preset::K(_) => None,
+    };
     let values = match ins.op {
-        Op::Timer(_, n, _) => vec![format!("TA{n:o}")],
-        Op::Counter(_, n, _) => vec![format!("CTA{n:o}")],
+        Op::Timer(_, n, p) => std::iter::once(format!("TA{n:o}")).chain(preset(p)).collect(),
+        Op::Counter(_, n, p) => std::iter::once(format!("CTA{n:o}")).chain(preset(p)).collect(),
         Op::OutV(a) | Op::OutD(a) | Op::IncB(a) | Op::DecB(a) => vec![format!("V{a:o}")],
         Op::Ld(_)
         | Op::Ldd(_)

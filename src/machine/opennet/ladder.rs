@@ -48,8 +48,15 @@ fn mnemonic(ins: &Instr) -> String {
 
 fn boxed(i: usize, ins: &Instr) -> Element {
     let values: Vec<String> = match ins.op {
-        Op::Timer { n, .. } => vec![format!("T{n}.current")],
-        Op::Counter { n, .. } => vec![format!("C{n}.current")],
+        Op::Timer { n, preset, .. } | Op::Counter { n, preset, .. } => {
+            let kind = if matches!(ins.op, Op::Timer { .. }) { 'T' } else { 'C' };
+            let mut v = vec![format!("{kind}{n}.current")];
+            // A preset from a data register is shown beside the current value.
+            if let super::program::Value::Reg(r) = preset {
+                v.push(format!("D{r}"));
+            }
+            v
+        }
         Op::Mov { dst, .. }
         | Op::Arith { dst, .. }
         | Op::WordLogic { dst, .. }

@@ -781,7 +781,7 @@ pub fn power_of(ladder: &Ladder, m: &dyn crate::machine::MachineView) -> Vec<Run
 
 /// Cell size of the SVG drawing, in px.
 const CELL_W: u32 = 110;
-const CELL_H: u32 = 64;
+const CELL_H: u32 = 76;
 const RUNG_GAP: u32 = 26;
 /// Lines of a rung's comment a drawing shows (a file's opening paragraph can be long).
 pub const RUNG_COMMENT_LINES: usize = 3;
@@ -1012,14 +1012,14 @@ pub fn svg(
                     let _ = writeln!(
                         body,
                         r#"<text class="name" x="{mid}" y="{}" text-anchor="middle">{}</text>"#,
-                        yc - 20,
+                        yc - 18,
                         escape(&fit(&e.text, 18))
                     );
                     if !e.comment.is_empty() {
                         let _ = writeln!(
                             body,
                             r##"<text class="note" x="{mid}" y="{}" text-anchor="middle" fill="#2a7a2a" font-size="9"><title>{}</title>{}</text>"##,
-                            yc + 28,
+                            yc - 31,
                             escape(&e.comment),
                             escape(&fit(&e.comment, 22))
                         );
