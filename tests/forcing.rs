@@ -203,3 +203,26 @@ fn the_runner_forces_bits_from_a_scan_on() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn releasing_a_forced_input_gives_the_program_its_switch_again() {
+    let mut d = debugger("dl205", DL);
+    // The switch is off; the force holds it on for the program.
+    force(&mut d, "X0", Some(true)).expect("forced");
+    to_tick(&mut d, 3);
+    assert_eq!(get(&d, "Y0"), 1);
+    force(&mut d, "X0", None).expect("released");
+    assert_eq!(get(&d, "X0"), 0, "the switch as the user left it");
+    to_tick(&mut d, 5);
+    assert_eq!(get(&d, "Y0"), 0, "the next scan reads the real switch");
+    // OpenNet likewise: I0 forced off while its switch is on, then released.
+    let mut o = debugger("opennet", "LOD I0\nOUT Q0\nEND\n");
+    let i0 = o.find("I0").expect("I0");
+    o.set_input(i0, true).expect("switched on");
+    force(&mut o, "I0", Some(false)).expect("forced");
+    to_tick(&mut o, 2);
+    assert_eq!(get(&o, "Q0"), 0);
+    force(&mut o, "I0", None).expect("released");
+    to_tick(&mut o, 4);
+    assert_eq!(get(&o, "Q0"), 1, "the switch was on all along");
+}

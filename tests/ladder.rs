@@ -357,6 +357,53 @@ fn the_svg_export_carries_line_operand_and_power() {
     assert!(!powered(4) && !powered(10), "C0 contacts open");
     assert!(!powered(12), "Y0's coil has no power");
 
+    // OpenNet's conveyor with the line stopped (M0 off): the MCS area gets no power, so its
+    // coils and boxes have none at their input, and a force is marked on its element.
+    let conveyor = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/examples/conveyor.opennet"
+    );
+    let source = include_str!("../assets/examples/conveyor.opennet");
+    let line = |text: &str| {
+        source
+            .lines()
+            .position(|s| s.starts_with(text))
+            .expect(text)
+            + 1
+    };
+    let mc = dir.join("mc.svg");
+    let run = servoscope(&[
+        "ladder",
+        conveyor,
+        "--max-ticks",
+        "3",
+        "--force",
+        "Q0=0",
+        "--svg",
+        mc.to_str().expect("utf-8"),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let svg = std::fs::read_to_string(&mc).expect("written");
+    let elements = svg_elements(&svg);
+    let at = |l: usize| elements.iter().find(|(x, ..)| *x == l).expect("element").2;
+    assert!(at(line("LOD M8125")), "M8125 is on: its contact conducts");
+    assert!(!at(line("OUT Q0")), "MC off: the coil has no power");
+    assert!(!at(line("TIM T0")), "MC off: the timer has no power");
+    assert!(
+        at(line("LODN M0")),
+        "outside the area: the stopped lamp's contact"
+    );
+    assert!(svg.contains("MC off"));
+    assert!(
+        svg.lines()
+            .any(|l| l.contains("data-operand=\"Q0\"") && l.contains("data-forced=\"0\"")),
+        "the forced coil says so"
+    );
+
     // A dialect without a ladder is told so.
     let qsl = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/examples/homing.qsl");
     let run = servoscope(&[

@@ -259,27 +259,20 @@ pub fn force_items(
     forced: Option<bool>,
     out: &mut Vec<Command>,
 ) {
+    // Only what applies: a disabled item would close the menu on a click that does nothing.
     for (text, level) in [
         (format!("Force {name} ON"), Some(true)),
         (format!("Force {name} OFF"), Some(false)),
+        (format!("Release {name}"), None),
     ] {
-        if ui
-            .add_enabled(forced != level, egui::Button::new(text))
-            .clicked()
-        {
+        let applies = match level {
+            Some(_) => forced != level,
+            None => forced.is_some(),
+        };
+        if applies && ui.button(text).clicked() {
             out.push(Command::Force(loc, level));
             ui.close();
         }
-    }
-    if ui
-        .add_enabled(
-            forced.is_some(),
-            egui::Button::new(format!("Release {name}")),
-        )
-        .clicked()
-    {
-        out.push(Command::Force(loc, None));
-        ui.close();
     }
 }
 

@@ -48,7 +48,13 @@ fn groups(m: &dyn MachineView) -> Vec<(String, Vec<Loc>)> {
         locs.sort();
         locs.dedup();
         if !locs.is_empty() {
-            out.push((format!("{} ({})", space.title, space.name), locs));
+            // "Inputs (X)"; a space whose name is a word is titled by its title alone.
+            let title = if space.name.len() <= 3 {
+                format!("{} ({})", space.title, space.name)
+            } else {
+                space.title.to_string()
+            };
+            out.push((title, locs));
         }
     }
     out
@@ -66,29 +72,38 @@ impl DialectPanel for IoBoard {
         let p = palette(ui.visuals().dark_mode);
         let forced_colour = Color32::from_rgb(230, 120, 20);
         let forces = m.forces();
-        ui.horizontal_wrapped(|ui| {
-            ui.label(RichText::new(format!("Forces: {}", forces.len())).strong());
-            for &(loc, on) in &forces {
-                let name = m.info(loc).map_or_else(String::new, |i| i.name);
-                ui.label(
-                    RichText::new(format!("{name} {}", if on { "ON" } else { "OFF" }))
-                        .color(forced_colour),
-                );
-                if ui
-                    .small_button(format!("Release {name}"))
-                    .on_hover_text(format!("{name} follows the program again"))
-                    .clicked()
-                {
-                    out.push(Command::Force(loc, None));
-                }
-            }
-            if !forces.is_empty() && ui.button("Release all").clicked() {
-                out.push(Command::ReleaseAllForces);
-            }
-            if forces.is_empty() {
-                ui.label(RichText::new("right-click a lamp to force it ON or OFF").color(p.dim));
-            }
-        });
+        // One line that scrolls sideways: forcing never moves the lamps under the pointer.
+        egui::ScrollArea::horizontal()
+            .id_salt("io_forces")
+            .auto_shrink([false, true])
+            .show(ui, |ui| {
+                ui.horizontal(|ui| {
+                    ui.label(RichText::new(format!("Forces: {}", forces.len())).strong());
+                    if !forces.is_empty() && ui.button("Release all").clicked() {
+                        out.push(Command::ReleaseAllForces);
+                    }
+                    for &(loc, on) in &forces {
+                        let name = m.info(loc).map_or_else(String::new, |i| i.name);
+                        ui.label(
+                            RichText::new(format!("{name} {}", if on { "ON" } else { "OFF" }))
+                                .color(forced_colour),
+                        );
+                        if ui
+                            .small_button(format!("Release {name}"))
+                            .on_hover_text(format!("{name} follows the program again"))
+                            .clicked()
+                        {
+                            out.push(Command::Force(loc, None));
+                        }
+                    }
+                    if forces.is_empty() {
+                        ui.label(
+                            RichText::new("right-click an input, output or relay lamp to force it")
+                                .color(p.dim),
+                        );
+                    }
+                });
+            });
         ui.separator();
         lamps(ui, m, &p, forced_colour, out);
     }
@@ -219,21 +234,25 @@ fn lamp(
         Some(false) => " — forced OFF",
         None => "",
     };
-    let hint = if input {
-        "click to switch it, right-click to force it"
-    } else {
-        "right-click to force it"
+    let forceable = m.can_force(loc);
+    let hint = match (input, forced.is_some(), forceable) {
+        (true, true, _) => "release the force to switch it",
+        (true, false, true) => "click to switch it, right-click to force it",
+        (true, false, false) => "click to switch it",
+        (false, _, true) => "click to show it; right-click to force it",
+        (false, _, false) => "the CPU drives it: it cannot be forced",
     };
     let label = format!("{} lamp", info.name);
     response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Button, true, &label));
     let response = response.on_hover_text(format!("{} is {state}{force_text}: {hint}", info.name));
-    if input && response.clicked() {
+    // A forced input's switch is refused: a click does nothing (the hover says why).
+    if input && forced.is_none() && response.clicked() {
         out.push(Command::SetInput(loc, !on));
     }
     if !input && response.clicked() {
         out.push(Command::SelectLocation(loc));
     }
-    if m.can_force(loc) {
+    if forceable {
         response.context_menu(|ui| {
             super::breakpoints::force_items(ui, &info.name, loc, forced, out);
         });

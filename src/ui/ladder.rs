@@ -26,6 +26,8 @@ const CELL_W: f32 = 84.0;
 const CELL_H: f32 = 72.0;
 const LEFT: f32 = 22.0;
 const GAP: f32 = 12.0;
+/// The drawing grows with a wide panel up to this factor (text and symbols with it).
+const MAX_ZOOM: f32 = 1.6;
 /// Room right of the right rail for a rung's state ("not yet / this scan").
 const NOTE_W: f32 = 56.0;
 const COMMENT_H: f32 = 15.0;
@@ -37,8 +39,40 @@ const COMMENT_LINES: usize = 2;
 struct Drawn {
     source: Arc<Ladder>,
     ladder: Ladder,
+    /// Each rung's top at zoom 1, and the whole height.
     tops: Vec<f32>,
     height: f32,
+}
+
+/// The drawing's measures at a zoom.
+#[derive(Clone, Copy)]
+struct Geo {
+    z: f32,
+}
+
+impl Geo {
+    fn cell_w(self) -> f32 {
+        CELL_W * self.z
+    }
+    fn cell_h(self) -> f32 {
+        CELL_H * self.z
+    }
+    fn left(self) -> f32 {
+        LEFT * self.z
+    }
+    fn comment_h(self) -> f32 {
+        COMMENT_H * self.z
+    }
+    fn font(self, size: f32) -> FontId {
+        FontId::proportional(size * self.z)
+    }
+    fn mono(self, size: f32) -> FontId {
+        FontId::monospace(size * self.z)
+    }
+    /// Points at zoom 1 in this zoom.
+    fn at(self, v: f32) -> f32 {
+        v * self.z
+    }
 }
 
 #[derive(Default)]
@@ -48,6 +82,7 @@ pub struct LadderPanel {
     followed: Option<usize>,
 }
 
+/// A rung's height at zoom 1: its comment lines, its rows, the gap below.
 fn rung_height(r: &Rung) -> f32 {
     let comments = r.comment.lines().take(COMMENT_LINES).count() as f32;
     comments * COMMENT_H + f32::from(r.rows) * CELL_H + GAP
@@ -126,12 +161,16 @@ impl DialectPanel for LadderPanel {
         let lines: std::collections::HashMap<usize, LinePower> =
             m.line_power().into_iter().collect();
         let breakpoints = debugger.breakpoints();
-        let pc = m.pc_line();
         let now = m.pos();
-        let width = LEFT + NOTE_W + f32::from(drawn.ladder.last_col + 1) * CELL_W;
+        let cols = drawn.ladder.last_col + 1;
+        let natural = LEFT + NOTE_W + f32::from(cols) * CELL_W;
+        // A wide panel draws the ladder larger, up to MAX_ZOOM.
+        let g = Geo {
+            z: (ui.available_width() / natural).clamp(1.0, MAX_ZOOM),
+        };
+        let width = natural * g.z;
         // The rung holding the line about to run, when the position moved there.
-        let moved = pc != followed;
-        let follow = moved
+        let follow = (pc != followed)
             .then(|| {
                 let pc = pc?;
                 drawn
@@ -145,11 +184,12 @@ impl DialectPanel for LadderPanel {
             .id_salt("ladder_scroll")
             .auto_shrink([false, false])
             .show_viewport(ui, |ui, viewport| {
-                let (rect, _) = ui.allocate_exact_size(vec2(width, drawn.height), Sense::hover());
+                let (rect, _) =
+                    ui.allocate_exact_size(vec2(width, drawn.height * g.z), Sense::hover());
                 let origin = rect.min;
                 if let Some(k) = follow {
-                    let top = drawn.tops[k];
-                    let bottom = drawn.tops.get(k + 1).copied().unwrap_or(drawn.height);
+                    let top = drawn.tops[k] * g.z;
+                    let bottom = drawn.tops.get(k + 1).copied().unwrap_or(drawn.height) * g.z;
                     let rung = Rect::from_min_max(
                         origin + vec2(0.0, top),
                         origin + vec2(width.min(ui.clip_rect().width()), bottom),
@@ -158,10 +198,10 @@ impl DialectPanel for LadderPanel {
                 }
                 let first = drawn
                     .tops
-                    .partition_point(|&t| t < viewport.min.y)
+                    .partition_point(|&t| t * g.z < viewport.min.y)
                     .saturating_sub(1);
                 for (k, rung) in drawn.ladder.rungs.iter().enumerate().skip(first) {
-                    let top = drawn.tops[k];
+                    let top = drawn.tops[k] * g.z;
                     if top > viewport.max.y {
                         break;
                     }
@@ -181,8 +221,9 @@ impl DialectPanel for LadderPanel {
                         index: k,
                         power: &power,
                         origin: origin + vec2(0.0, top),
-                        cols: drawn.ladder.last_col + 1,
+                        cols,
                         ink: &ink,
+                        g,
                         here,
                         breakpoint: breakpoints.contains(&first_line),
                     };
@@ -199,6 +240,7 @@ struct RungDrawing<'a> {
     origin: Pos2,
     cols: u16,
     ink: &'a Ink,
+    g: Geo,
     here: bool,
     breakpoint: bool,
 }
@@ -211,29 +253,33 @@ impl RungDrawing<'_> {
 
     fn wire(&self, lit: bool) -> Stroke {
         if lit {
-            Stroke::new(3.0, self.ink.on)
+            Stroke::new(self.g.at(3.0), self.ink.on)
         } else {
-            Stroke::new(1.5, self.ink.off)
+            Stroke::new(self.g.at(1.5), self.ink.off)
         }
     }
 
     fn show(&self, ui: &mut egui::Ui, m: &dyn MachineView, out: &mut Vec<Command>) {
         let painter = ui.painter().clone();
-        let rung = self.rung;
+        let (g, rung) = (self.g, self.rung);
         let comments: Vec<&str> = rung.comment.lines().take(COMMENT_LINES).collect();
-        let top = self.origin.y + comments.len() as f32 * COMMENT_H;
-        let height = f32::from(rung.rows) * CELL_H;
-        let right = self.origin.x + LEFT + f32::from(self.cols) * CELL_W;
-        let body = Rect::from_min_max(pos2(self.origin.x, top), pos2(right + LEFT, top + height));
+        let top = self.origin.y + comments.len() as f32 * g.comment_h();
+        let height = f32::from(rung.rows) * g.cell_h();
+        let rail_x = self.origin.x + g.left();
+        let right = rail_x + f32::from(self.cols) * g.cell_w();
+        let body = Rect::from_min_max(
+            pos2(self.origin.x, top),
+            pos2(right + g.left(), top + height),
+        );
         if self.here {
             painter.rect_filled(body, 2.0, self.ink.current);
         }
         for (i, c) in comments.iter().enumerate() {
             painter.text(
-                pos2(self.origin.x + LEFT, self.origin.y + i as f32 * COMMENT_H),
+                pos2(rail_x, self.origin.y + i as f32 * g.comment_h()),
                 Align2::LEFT_TOP,
-                ladder::fit(c, ((right - self.origin.x) / 6.6) as usize),
-                FontId::monospace(10.5),
+                ladder::fit(c, ((right - self.origin.x) / g.at(6.6)) as usize),
+                g.mono(10.5),
                 self.ink.comment,
             );
         }
@@ -246,16 +292,18 @@ impl RungDrawing<'_> {
         if let Some(note) = note {
             // Right of the right rail, where no element stands.
             painter.text(
-                pos2(right + 6.0, top + 4.0),
+                pos2(right + g.at(6.0), top + g.at(4.0)),
                 Align2::LEFT_TOP,
                 note.replacen(' ', "\n", 1),
-                FontId::proportional(10.0),
+                g.font(10.0),
                 self.ink.dim,
             );
         }
         // The rails; the left one is where a click sets a breakpoint.
-        let rail_x = self.origin.x + LEFT;
-        let rail = Rect::from_min_max(pos2(self.origin.x, top), pos2(rail_x + 6.0, top + height));
+        let rail = Rect::from_min_max(
+            pos2(self.origin.x, top),
+            pos2(rail_x + g.at(6.0), top + height),
+        );
         let rail_id = ui.scope_id().with(("ladder_rail", self.index));
         let rail_response = ui.interact(rail, rail_id, Sense::click());
         let rail_label = format!("Ladder rung {} rail", self.index);
@@ -271,21 +319,24 @@ impl RungDrawing<'_> {
         }
         painter.line_segment(
             [pos2(rail_x, top), pos2(rail_x, top + height)],
-            self.wire(self.power.state == RungState::Done),
+            self.wire(
+                self.power.node.first().copied().unwrap_or(false)
+                    && self.power.state == RungState::Done,
+            ),
         );
         painter.line_segment(
             [pos2(right, top), pos2(right, top + height)],
-            Stroke::new(1.5, self.ink.off),
+            Stroke::new(g.at(1.5), self.ink.off),
         );
         if self.breakpoint {
             painter.circle_filled(
-                pos2(self.origin.x + 9.0, top + CELL_H / 2.0),
-                6.0,
+                pos2(self.origin.x + g.at(9.0), top + g.cell_h() / 2.0),
+                g.at(6.0),
                 self.ink.breakpoint,
             );
         }
-        let x_of = |c: u16| rail_x + f32::from(c) * CELL_W;
-        let y_of = |r: u16| top + f32::from(r) * CELL_H + CELL_H / 2.0;
+        let x_of = |c: u16| rail_x + f32::from(c) * g.cell_w();
+        let y_of = |r: u16| top + f32::from(r) * g.cell_h() + g.cell_h() / 2.0;
         for f in &rung.fillers {
             painter.line_segment(
                 [
@@ -305,6 +356,7 @@ impl RungDrawing<'_> {
             );
         }
         for (i, e) in rung.elements.iter().enumerate() {
+            let alone = e.from.is_empty();
             let col = if e.to.is_none() { self.cols - 1 } else { e.col };
             let x = x_of(col);
             let yc = y_of(e.row);
@@ -319,25 +371,37 @@ impl RungDrawing<'_> {
                     }
                 }
             }
-            let shown = self.power.state == RungState::Done
+            // Contacts show their bits in any rung; coils and boxes their power only where
+            // the rung has it.
+            let contact = e.to.is_some();
+            let shown = (contact || self.power.state == RungState::Done)
                 && self.power.element.get(i).copied().unwrap_or(false);
-            let cell = Rect::from_min_size(
-                pos2(x, yc - CELL_H / 2.0),
-                vec2(CELL_W, f32::from(e.height) * CELL_H),
-            );
+            let cell = if alone {
+                // An instruction standing alone (a stage, END): a band across the rung.
+                Rect::from_min_max(
+                    pos2(rail_x + g.at(6.0), yc - g.cell_h() / 2.0),
+                    pos2(right - g.at(6.0), yc + g.cell_h() / 2.0),
+                )
+            } else {
+                Rect::from_min_size(
+                    pos2(x, yc - g.cell_h() / 2.0),
+                    vec2(g.cell_w(), f32::from(e.height) * g.cell_h()),
+                )
+            };
             self.element(&painter, e, cell, shown, m);
             let id = ui.scope_id().with(("ladder_element", self.index, i));
-            let response = ui.interact(cell.shrink(4.0), id, Sense::click());
+            let response = ui.interact(cell.shrink(g.at(4.0)), id, Sense::click());
             let label = format!("Ladder {} line {}", e.operand, e.line);
             response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Button, true, &label));
-            let response = response.on_hover_ui(|ui| hover(ui, e, m));
+            let forceable = m.find(&e.operand).filter(|&l| m.can_force(l));
+            let response = response.on_hover_ui(|ui| hover(ui, e, m, forceable.is_some()));
             if response.clicked() {
                 out.push(Command::ShowLine(e.line));
                 if let Some(loc) = m.find(&e.operand) {
                     out.push(Command::SelectLocation(loc));
                 }
             }
-            if let Some(loc) = m.find(&e.operand).filter(|&l| m.can_force(l)) {
+            if let Some(loc) = forceable {
                 response.context_menu(|ui| {
                     super::breakpoints::force_items(ui, &e.operand, loc, m.forced(loc), out);
                 });
@@ -359,43 +423,78 @@ impl RungDrawing<'_> {
         shown: bool,
         m: &dyn MachineView,
     ) {
-        let ink = self.ink;
-        let yc = cell.min.y + CELL_H / 2.0;
+        let (ink, g) = (self.ink, self.g);
+        let yc = cell.min.y + g.cell_h() / 2.0;
         let mid = cell.center().x;
         let input_lit = e.from.first().is_some_and(|&f| self.lit(f));
         let out_lit = e.to.is_some_and(|t| self.lit(t));
         let symbol_stroke = if shown {
-            Stroke::new(2.5, ink.on)
+            Stroke::new(g.at(2.5), ink.on)
         } else {
-            Stroke::new(1.5, ink.text)
+            Stroke::new(g.at(1.5), ink.text)
         };
-        let small = FontId::proportional(11.0);
         let forced = m.find(&e.operand).and_then(|loc| m.forced(loc));
         match e.symbol {
+            Symbol::Box if e.from.is_empty() => {
+                // A band: the instruction and its comment, across the rung.
+                painter.rect_stroke(
+                    cell.shrink2(vec2(0.0, g.at(14.0))),
+                    3.0,
+                    Stroke::new(g.at(1.5), ink.dim),
+                    egui::StrokeKind::Inside,
+                );
+                let text = if e.comment.is_empty() {
+                    e.text.clone()
+                } else {
+                    format!("{}    {}", e.text, e.comment)
+                };
+                painter.text(
+                    pos2(cell.min.x + g.at(10.0), yc),
+                    Align2::LEFT_CENTER,
+                    ladder::fit(&text, (cell.width() / g.at(7.0)) as usize),
+                    g.font(12.0),
+                    ink.text,
+                );
+            }
             Symbol::Box => {
                 for (&f, &row) in e.from.iter().zip(&e.leg_rows) {
-                    let y = cell.min.y + f32::from(row - e.row) * CELL_H + CELL_H / 2.0;
+                    let y = cell.min.y + f32::from(row - e.row) * g.cell_h() + g.cell_h() / 2.0;
                     painter.line_segment(
-                        [pos2(cell.min.x, y), pos2(cell.min.x + 8.0, y)],
+                        [pos2(cell.min.x, y), pos2(cell.min.x + g.at(8.0), y)],
                         self.wire(self.lit(f)),
                     );
                 }
-                let body = cell.shrink2(vec2(8.0, 6.0));
+                let body = cell.shrink2(vec2(g.at(8.0), g.at(6.0)));
                 painter.rect_stroke(body, 3.0, symbol_stroke, egui::StrokeKind::Inside);
-                let mut lines = vec![ladder::fit(&e.text, 12)];
+                let mut lines = vec![e.text.clone()];
                 lines.extend(e.values.iter().map(|v| box_value(m, v)));
                 for (j, l) in lines.iter().enumerate() {
+                    // Long lines in a smaller size, so they stay inside the box.
+                    let size = match l.chars().count() {
+                        0..=9 => 11.0,
+                        10..=12 => 9.5,
+                        _ => 8.5,
+                    };
                     painter.text(
-                        pos2(mid, body.min.y + 4.0 + j as f32 * 14.0),
+                        pos2(mid, body.min.y + g.at(4.0) + j as f32 * g.at(14.0)),
                         Align2::CENTER_TOP,
-                        l,
-                        FontId::proportional(if l.chars().count() > 11 { 9.5 } else { 11.0 }),
+                        ladder::fit(l, 15),
+                        g.font(size),
                         if j == 0 { ink.text } else { ink.dim },
+                    );
+                }
+                if !e.comment.is_empty() {
+                    painter.text(
+                        pos2(mid, body.max.y + g.at(1.0)),
+                        Align2::CENTER_TOP,
+                        ladder::fit(&e.comment, 13),
+                        g.mono(9.0),
+                        ink.comment,
                     );
                 }
             }
             _ => {
-                let (l, r) = (mid - 10.0, mid + 10.0);
+                let (l, r) = (mid - g.at(10.0), mid + g.at(10.0));
                 painter.line_segment([pos2(cell.min.x, yc), pos2(l, yc)], self.wire(input_lit));
                 painter.line_segment(
                     [pos2(r, yc), pos2(cell.max.x, yc)],
@@ -406,11 +505,15 @@ impl RungDrawing<'_> {
                         // The coil's bit itself: filled while it is on (a forced or earlier
                         // rung may hold it on whatever power this rung gives it now).
                         let bit_on = m.find(&e.operand).is_some_and(|loc| m.read(loc) != 0);
-                        if bit_on {
-                            painter.circle_filled(pos2(mid, yc), 11.0, ink.on.gamma_multiply(0.35));
+                        if bit_on && kind != CoilKind::Jump {
+                            painter.circle_filled(
+                                pos2(mid, yc),
+                                g.at(11.0),
+                                ink.on.gamma_multiply(0.35),
+                            );
                         }
-                        arc(painter, pos2(mid, yc), 13.0, true, symbol_stroke);
-                        arc(painter, pos2(mid, yc), 13.0, false, symbol_stroke);
+                        arc(painter, pos2(mid, yc), g.at(13.0), true, symbol_stroke);
+                        arc(painter, pos2(mid, yc), g.at(13.0), false, symbol_stroke);
                         let letters = match kind {
                             CoilKind::Out => "",
                             k => ladder::coil_letters(k),
@@ -419,21 +522,21 @@ impl RungDrawing<'_> {
                             pos2(mid, yc),
                             Align2::CENTER_CENTER,
                             letters,
-                            FontId::proportional(10.0),
+                            g.font(if letters.len() > 2 { 8.0 } else { 10.0 }),
                             ink.text,
                         );
                     }
                     _ => {
                         if shown {
                             painter.rect_filled(
-                                Rect::from_center_size(pos2(mid, yc), vec2(20.0, 24.0)),
+                                Rect::from_center_size(pos2(mid, yc), vec2(g.at(20.0), g.at(24.0))),
                                 0.0,
                                 ink.on.gamma_multiply(0.35),
                             );
                         }
                         for x in [l, r] {
                             painter.line_segment(
-                                [pos2(x, yc - 12.0), pos2(x, yc + 12.0)],
+                                [pos2(x, yc - g.at(12.0)), pos2(x, yc + g.at(12.0))],
                                 symbol_stroke,
                             );
                         }
@@ -445,28 +548,30 @@ impl RungDrawing<'_> {
                         if let Some(edge) = edge {
                             // An arrow drawn, not a glyph: every font has lines.
                             let (tip, tail) = match edge {
-                                EdgeKind::Rising => (yc - 8.0, yc + 8.0),
-                                EdgeKind::Falling => (yc + 8.0, yc - 8.0),
+                                EdgeKind::Rising => (yc - g.at(8.0), yc + g.at(8.0)),
+                                EdgeKind::Falling => (yc + g.at(8.0), yc - g.at(8.0)),
                             };
-                            let head = if tip < tail { 4.0 } else { -4.0 };
-                            let arrow = Stroke::new(1.5, ink.text);
+                            let head = if tip < tail { g.at(4.0) } else { -g.at(4.0) };
+                            let arrow = Stroke::new(g.at(1.5), ink.text);
                             painter.line_segment([pos2(mid, tail), pos2(mid, tip)], arrow);
-                            painter
-                                .line_segment([pos2(mid, tip), pos2(mid - 4.0, tip + head)], arrow);
-                            painter
-                                .line_segment([pos2(mid, tip), pos2(mid + 4.0, tip + head)], arrow);
+                            for side in [-1.0, 1.0] {
+                                painter.line_segment(
+                                    [pos2(mid, tip), pos2(mid + side * g.at(4.0), tip + head)],
+                                    arrow,
+                                );
+                            }
                         }
                         let mark = match e.symbol {
-                            Symbol::Contact { closed: true, .. } => "/",
-                            Symbol::Invert => "NOT",
-                            Symbol::Compare => "CMP",
-                            _ => "",
+                            Symbol::Contact { closed: true, .. } => "/".to_string(),
+                            Symbol::Invert => "NOT".to_string(),
+                            Symbol::Compare => relation(&e.text),
+                            _ => String::new(),
                         };
                         painter.text(
                             pos2(mid, yc),
                             Align2::CENTER_CENTER,
-                            mark,
-                            FontId::proportional(if mark.len() > 1 { 9.0 } else { 13.0 }),
+                            &mark,
+                            g.font(if mark.chars().count() > 1 { 9.0 } else { 13.0 }),
                             ink.text,
                         );
                     }
@@ -474,36 +579,59 @@ impl RungDrawing<'_> {
                 // The name above the symbol and its line's comment above the name, as
                 // DirectSOFT and WindLDR put nicknames and comments.
                 painter.text(
-                    pos2(mid, yc - 12.0),
+                    pos2(mid, yc - g.at(12.0)),
                     Align2::CENTER_BOTTOM,
                     ladder::fit(&e.text, 13),
-                    small.clone(),
+                    g.font(11.0),
                     ink.text,
                 );
                 if !e.comment.is_empty() {
                     painter.text(
-                        pos2(mid, yc - 24.0),
+                        pos2(mid, yc - g.at(24.0)),
                         Align2::CENTER_BOTTOM,
                         ladder::fit(&e.comment, 13),
-                        FontId::monospace(9.0),
+                        g.mono(9.0),
                         ink.comment,
                     );
                 }
             }
         }
         if let Some(on) = forced {
-            let badge =
-                Rect::from_min_size(pos2(cell.max.x - 22.0, cell.min.y + 2.0), vec2(20.0, 13.0));
+            // Below and right of the symbol, where no text stands.
+            let badge = Rect::from_min_size(
+                pos2(mid + g.at(14.0), yc + g.at(8.0)),
+                vec2(g.at(20.0), g.at(13.0)),
+            );
             painter.rect_filled(badge, 3.0, ink.forced);
             painter.text(
                 badge.center(),
                 Align2::CENTER_CENTER,
                 if on { "F1" } else { "F0" },
-                FontId::proportional(9.0),
+                g.font(9.0),
                 Color32::WHITE,
             );
         }
     }
+}
+
+/// The relation a compare contact tests, for its symbol: `≥` for `V0 >= K50` or `DC>=`.
+fn relation(text: &str) -> String {
+    for (written, shown) in [
+        (">=", "≥"),
+        ("<=", "≤"),
+        ("<>", "≠"),
+        ("≥", "≥"),
+        ("≤", "≤"),
+        ("≠", "≠"),
+        ("<", "<"),
+        (">", ">"),
+        ("=", "="),
+    ] {
+        if text.contains(written) {
+            return shown.to_string();
+        }
+    }
+    "CMP".to_string()
 }
 
 /// A live value as a box line that fits its width: `TA1 = 29`, or for a long name its field
@@ -532,8 +660,9 @@ fn arc(painter: &egui::Painter, c: Pos2, r: f32, left: bool, stroke: Stroke) {
     painter.add(egui::Shape::line(points, stroke));
 }
 
-/// The hover card of an element: its line, operand and values in every format.
-fn hover(ui: &mut egui::Ui, e: &Element, m: &dyn MachineView) {
+/// The hover card of an element: its line, and each value it names in its own reading first,
+/// then every format.
+fn hover(ui: &mut egui::Ui, e: &Element, m: &dyn MachineView, forceable: bool) {
     ui.label(format!("line {}: {}", e.line, e.text));
     if !e.comment.is_empty() {
         ui.label(egui::RichText::new(&e.comment).italics());
@@ -557,11 +686,25 @@ fn hover(ui: &mut egui::Ui, e: &Element, m: &dyn MachineView) {
                 if raw != 0 { "ON" } else { "OFF" }
             ));
         } else {
-            ui.label(format!("{} =", info.name));
-            for f in Format::ALL {
-                ui.label(format!("    {}: {}", f.name(), f.show(raw, info.width)));
+            let own = info.reading();
+            ui.label(format!(
+                "{} = {} ({})",
+                info.name,
+                own.show(raw, info.width),
+                own.name()
+            ));
+            for f in Format::ALL.into_iter().filter(|&f| f != own) {
+                ui.label(
+                    egui::RichText::new(format!("    {}: {}", f.name(), f.show(raw, info.width)))
+                        .weak(),
+                );
             }
         }
     }
-    ui.label(egui::RichText::new("Click: its line and register · right-click: force").weak());
+    let hint = if forceable {
+        "Click: its line and register · right-click: force it"
+    } else {
+        "Click: its line and register"
+    };
+    ui.label(egui::RichText::new(hint).weak());
 }

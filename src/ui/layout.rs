@@ -463,7 +463,7 @@ impl Layout {
             return;
         }
         let row = self.tree.tiles.insert_horizontal_tile(vec![anchor, id]);
-        set_shares(&mut self.tree.tiles, row, &[(anchor, 1.0), (id, 1.0)]);
+        set_shares(&mut self.tree.tiles, row, &[(anchor, 1.1), (id, 1.0)]);
         match parent {
             Some(parent) => {
                 if let Some(egui_tiles::Tile::Container(c)) = self.tree.tiles.get_mut(parent) {

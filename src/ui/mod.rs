@@ -120,6 +120,8 @@ pub enum Command {
     ReleaseAllForces,
     /// Show a location in the register view.
     SelectLocation(Loc),
+    /// Bring a panel's tab to the front.
+    FocusPane(layout::Pane),
     ExportLadderDialog,
     ExportLadder(PathBuf),
 }
@@ -449,7 +451,12 @@ impl ServoscopeApp {
             self.notice = Some("This program has no ladder diagram".to_string());
             return;
         };
-        let title = format!("{} — scan {}", d.name(), m.pos());
+        let at = m.pos();
+        let title = if at.step == 0 {
+            format!("{} — at scan {}", d.name(), at.tick)
+        } else {
+            format!("{} — scan {}, instruction {}", d.name(), at.tick, at.step)
+        };
         let svg = crate::machine::plc::ladder::svg_of(m, &diagram, &title);
         match crate::atomic::write_atomically(path, |w| w.write_all(svg.as_bytes())) {
             Ok(()) => {
@@ -825,6 +832,7 @@ impl ServoscopeApp {
                 let result = self.debugger.release_all_forces();
                 self.report(result);
             }
+            Command::FocusPane(pane) => self.layout.focus(&pane),
             Command::SelectLocation(loc) => {
                 self.registers.select(loc, self.debugger.machine());
             }

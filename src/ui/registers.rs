@@ -321,6 +321,16 @@ fn bit_grid(
         if let Some(alias) = info.alias {
             ui.label(RichText::new(alias).strong());
         }
+        if let Some(on) = m.forced(loc) {
+            ui.label(
+                RichText::new(if on { "FORCED ON" } else { "FORCED OFF" })
+                    .strong()
+                    .color(egui::Color32::from_rgb(230, 120, 20)),
+            )
+            .on_hover_text(
+                "It holds this level whatever the program writes: release it to change it",
+            );
+        }
         for (name, _) in m
             .program_names()
             .iter()
@@ -665,6 +675,8 @@ fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView, out: &
         });
     if let Some(loc) = clicked {
         view.select(loc, m);
+        // Its bit grid is in Bits: in front of the tabs beside it (a PLC's I/O board).
+        out.push(Command::FocusPane(super::layout::Pane::Bits));
     }
     match format_change {
         Some((loc, Some(f))) => {

@@ -105,6 +105,13 @@ fn step(i: usize, ins: &Instr) -> Step {
         Op::Rst(a, b) => Step::Output(coil(i, ins, CoilKind::Reset, a, Some(b))),
         Op::Pd(b, _) => Step::Output(coil(i, ins, CoilKind::Pulse, b, None)),
         Op::OrOut(b, _) => Step::Output(coil(i, ins, CoilKind::OrOut, b, None)),
+        Op::Jmp { .. } | Op::Njmp { .. } => {
+            let stage = operands(ins).first().copied().unwrap_or("").to_string();
+            Step::Output(
+                Element::new(Symbol::Coil(CoilKind::Jump), i, ins.line, stage)
+                    .text(ins.text.split_whitespace().collect::<Vec<_>>().join(" ")),
+            )
+        }
         Op::Nop => Step::Skip,
         op if op.is_standalone() => Step::Alone(boxed(i, ins)),
         op => match box_shape(&op) {
@@ -140,13 +147,15 @@ impl Dl205 {
         }
     }
 
-    /// Store a forced bit's level (the spaces [`Dl205::forceable`] allows).
+    /// Store a forced bit's level (the spaces [`Dl205::forceable`] allows). A forced input
+    /// holds the input image the program reads; its switch stays as the user left it, so a
+    /// release gives the next scan the switch's real state, as on the PLC.
     pub(super) fn hold_forces(&mut self) {
         for k in 0..self.forces.0.len() {
             let (loc, on) = self.forces.0[k];
             let i = loc.index as usize;
             let bits = match loc.space {
-                super::view::X => &mut self.x,
+                super::view::X => &mut self.x_image,
                 super::view::Y => &mut self.y,
                 super::view::C => &mut self.c,
                 super::view::S => &mut self.s,

@@ -126,8 +126,6 @@ pub struct Dl205 {
     pub calls: Vec<Frame>,
     /// Each stage's clean-up mark: it ran since it last turned off (spec §6.10).
     pub stage_marks: Vec<bool>,
-    /// Bits the user forced.
-    pub forces: crate::machine::plc::Forces,
     /// The last change of each stage bit the program changed.
     pub stage_changes: Vec<StageChange>,
     pub acc: u32,
@@ -150,6 +148,8 @@ pub struct Dl205 {
     pub sp75_line: Option<usize>,
     /// The rung power after each instruction of this scan (None: not reached yet).
     pub power: Vec<Option<bool>>,
+    /// Bits the user forced (last: the run loops' fields keep their places).
+    pub forces: crate::machine::plc::Forces,
 }
 
 pub use crate::machine::plc::{bcd_value, to_bcd};
@@ -1200,6 +1200,9 @@ impl crate::machine::ScanSteps for Dl205 {
     }
     fn start_scan(&mut self) {
         self.scan_start();
+        if !self.forces.is_empty() {
+            self.hold_forces();
+        }
     }
     fn run_instruction(&mut self) {
         self.execute();

@@ -407,7 +407,8 @@ impl MachineView for Dl205 {
             ACC => self.stack.get(i - 1).map_or(0, |&v| u64::from(v)),
             V => u64::from(self.word(i as u32)),
             VM => mapped_address(i as u32).map_or(0, |a| u64::from(self.word(a))),
-            X => u64::from(self.x.get(i).copied().unwrap_or(false)),
+            // A forced input reads as what the program sees.
+            X => u64::from(self.forces.get(loc).unwrap_or_else(|| self.x.get(i).copied().unwrap_or(false))),
             Y => u64::from(self.y.get(i).copied().unwrap_or(false)),
             C => u64::from(self.c.get(i).copied().unwrap_or(false)),
             SP => u64::from(self.sp.get(i).copied().unwrap_or(false)),

@@ -149,12 +149,14 @@ impl OpenNet {
         }
     }
 
-    /// Store each forced bit's level (I, Q, M and R can be forced).
+    /// Store each forced bit's level (I, Q, M and R can be forced). A forced input holds the
+    /// input image the program reads; its switch stays as the user left it, so a release gives
+    /// the next scan the switch's real state, as on the PLC.
     pub(super) fn hold_forces(&mut self) {
         for k in 0..self.forces.0.len() {
             let (loc, on) = self.forces.0[k];
             let bits = match loc.space {
-                super::view::I => &mut self.inputs,
+                super::view::I => &mut self.input_image,
                 super::view::Q => &mut self.q,
                 super::view::M => &mut self.m,
                 super::view::R => &mut self.r,

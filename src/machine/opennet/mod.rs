@@ -952,6 +952,9 @@ impl crate::machine::ScanSteps for OpenNet {
     }
     fn start_scan(&mut self) {
         self.refresh();
+        if !self.forces.is_empty() {
+            self.hold_forces();
+        }
     }
     fn run_instruction(&mut self) {
         self.execute();

@@ -415,7 +415,8 @@ impl MachineView for OpenNet {
         let counter = self.counters.get(i);
         match loc.space {
             D => self.d.get(i).map_or(0, |&v| u64::from(v)),
-            I => u64::from(self.inputs.get(i).copied().unwrap_or(false)),
+            // A forced input reads as what the program sees.
+            I => u64::from(self.forces.get(loc).unwrap_or_else(|| self.inputs.get(i).copied().unwrap_or(false))),
             Q => u64::from(self.q.get(i).copied().unwrap_or(false)),
             M => u64::from(self.m.get(i).copied().unwrap_or(false)),
             R => u64::from(self.r.get(i).copied().unwrap_or(false)),

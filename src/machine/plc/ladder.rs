@@ -42,6 +42,8 @@ pub enum CoilKind {
     Pulse,
     /// `-(OR)-`: DL205 OROUT.
     OrOut,
+    /// `-(JMP)-`: DL205's stage jump, drawn as DirectSOFT draws it, a coil naming the stage.
+    Jump,
 }
 
 /// How an element is drawn.
@@ -685,7 +687,8 @@ pub fn value_text(m: &dyn crate::machine::MachineView, name: &str) -> String {
 /// The whole diagram of `m` as SVG with its power flow now.
 pub fn svg_of(m: &dyn crate::machine::MachineView, ladder: &Ladder, title: &str) -> String {
     let power = power_of(ladder, m);
-    svg(ladder, &power, title, &|name| value_text(m, name))
+    let forced = |name: &str| m.find(name).and_then(|loc| m.forced(loc));
+    svg(ladder, &power, title, &|name| value_text(m, name), &forced)
 }
 
 /// Where a rung is in the scan now.
@@ -715,7 +718,9 @@ impl RungPower {
     /// The power of `rung` when `conducts(instr)` says which contacts conduct.
     pub fn of(rung: &Rung, state: RungState, conducts: impl Fn(usize) -> bool) -> RungPower {
         let mut node = vec![false; rung.nodes as usize];
-        node[RAIL as usize] = true;
+        // A rung jumped over or in an MCS area that is off gets no power: its contacts still
+        // show their bits, its coils and boxes see their input off.
+        node[RAIL as usize] = matches!(state, RungState::Done | RungState::NotYet);
         let mut order: Vec<usize> = (0..rung.elements.len()).collect();
         order.sort_by_key(|&i| {
             let e = &rung.elements[i];
@@ -830,6 +835,7 @@ pub fn coil_letters(kind: CoilKind) -> &'static str {
         CoilKind::Reset => "R",
         CoilKind::Pulse => "PD",
         CoilKind::OrOut => "OR",
+        CoilKind::Jump => "JMP",
     }
 }
 
@@ -842,17 +848,19 @@ pub fn svg(
     power: &[RungPower],
     title: &str,
     values: &dyn Fn(&str) -> String,
+    forced: &dyn Fn(&str) -> Option<bool>,
 ) -> String {
     let cols = u32::from(ladder.last_col) + 1;
     let left = 40u32;
-    let width = left * 2 + cols * CELL_W;
+    // Room right of the right rail for a rung's state.
+    let width = left * 2 + cols * CELL_W + 120;
     let mut y = 50u32;
     let mut body = String::new();
     for (k, rung) in ladder.rungs.iter().enumerate() {
         let pw = power.get(k);
         let comment: Vec<&str> = rung.comment.lines().take(RUNG_COMMENT_LINES).collect();
         let comment_lines = comment.len() as u32;
-        let top = y + comment_lines * 14;
+        let top = y + comment_lines * 14 + if comment_lines > 0 { 8 } else { 0 };
         let height = u32::from(rung.rows) * CELL_H;
         let _ = writeln!(
             body,
@@ -878,9 +886,31 @@ pub fn svg(
         };
         let x_of = |c: u32| left + c * CELL_W;
         let y_of = |r: u32| top + r * CELL_H + CELL_H / 2;
+        let state = pw.map_or(RungState::Done, |p| p.state);
         // Rails.
-        wire(&mut body, left, top, left, top + height, true);
+        wire(
+            &mut body,
+            left,
+            top,
+            left,
+            top + height,
+            state == RungState::Done,
+        );
         let right = x_of(cols);
+        let note = match state {
+            RungState::Done => None,
+            RungState::NotYet => Some("not yet this scan"),
+            RungState::NotRun => Some("not run this scan"),
+            RungState::MasterOff => Some("MC off: outputs off"),
+        };
+        if let Some(note) = note {
+            let _ = writeln!(
+                body,
+                r##"<text class="state" x="{}" y="{}" fill="#888888" font-style="italic">{note}</text>"##,
+                right + 6,
+                top + 14
+            );
+        }
         wire(&mut body, right, top, right, top + height, false);
         for f in &rung.fillers {
             wire(
@@ -910,14 +940,30 @@ pub fn svg(
                 u32::from(e.col)
             };
             let (x, yc) = (x_of(col), y_of(u32::from(e.row)));
+            let force = forced(&e.operand);
             let _ = writeln!(
                 body,
-                r#"<g class="element{}" data-line="{}" data-operand="{}" data-powered="{}">"#,
+                r#"<g class="element{}" data-line="{}" data-operand="{}" data-powered="{}"{}>"#,
                 if powered { " on" } else { "" },
                 e.line,
                 escape(&e.operand),
-                u8::from(powered)
+                u8::from(powered),
+                match force {
+                    Some(on) => format!(r#" data-forced="{}""#, u8::from(on)),
+                    None => String::new(),
+                }
             );
+            if let Some(on) = force {
+                let _ = writeln!(
+                    body,
+                    r##"<rect x="{}" y="{}" width="20" height="13" rx="3" fill="#e67814"/><text x="{}" y="{}" fill="#ffffff" font-size="9" text-anchor="middle">F{}</text>"##,
+                    x + CELL_W / 2 + 14,
+                    yc + 8,
+                    x + CELL_W / 2 + 24,
+                    yc + 18,
+                    u8::from(on)
+                );
+            }
             let input_lit = e.from.first().is_some_and(|&f| on(f));
             // A coil's or box's input wires run from their nodes to its column.
             if e.to.is_none() {
@@ -1166,7 +1212,7 @@ mod tests {
     fn svg_carries_the_attributes() {
         let ladder = Ladder::build([Step::Load(c(0, "X<1")), Step::Output(coil(1, "Y1"))]);
         let power = vec![RungPower::of(&ladder.rungs[0], RungState::Done, |_| true)];
-        let s = svg(&ladder, &power, "t", &|v| v.to_string());
+        let s = svg(&ladder, &power, "t", &|v| v.to_string(), &|_| None);
         assert!(s.contains(r#"data-rung="0""#));
         assert!(s.contains(r#"data-line="1" data-operand="X&lt;1" data-powered="1""#));
         assert!(s.contains(r#"data-line="2" data-operand="Y1" data-powered="1""#));
