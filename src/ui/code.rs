@@ -350,9 +350,9 @@ pub fn hover_value(m: &dyn crate::machine::MachineView, word: &str) -> Option<St
             // readings of a number it is not.
             lines.push(if raw != 0 { "ON" } else { "OFF" }.to_string());
             if let Some(on) = m.forced(loc) {
+                let level = if on { "ON" } else { "OFF" };
                 lines.push(format!(
-                    "FORCED {}: it holds whatever the program writes",
-                    if on { "ON" } else { "OFF" }
+                    "FORCED {level}: the program reads {level} whatever it writes or the switch says"
                 ));
             }
         } else {

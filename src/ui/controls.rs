@@ -400,15 +400,25 @@ pub fn toolbar(
         for loc in shown_inputs(machine, extra_inputs) {
             let high = machine.read(loc) != 0;
             let name = machine.info(loc).map_or_else(String::new, |i| i.name);
+            let forced = machine.forced(loc);
             let mut button = egui::Button::new(&name).selected(high);
             if high {
                 button = button.fill(egui::Color32::from_rgb(60, 170, 90));
             }
-            let r = ui.add(button).on_hover_text(format!(
-                "{name} is {}: click to switch it (works while running)",
-                if high { "high" } else { "low" }
-            ));
-            if r.clicked() {
+            if forced.is_some() {
+                // The force's colour: this switch does nothing until the force is released.
+                button = button.stroke(egui::Stroke::new(
+                    2.0,
+                    egui::Color32::from_rgb(230, 120, 20),
+                ));
+            }
+            let level = if high { "high" } else { "low" };
+            let hint = match forced {
+                Some(_) => format!("{name} is forced {level}: release the force to switch it"),
+                None => format!("{name} is {level}: click to switch it (works while running)"),
+            };
+            let r = ui.add(button).on_hover_text(hint);
+            if r.clicked() && forced.is_none() {
                 out.push(Command::SetInput(loc, !high));
             }
         }

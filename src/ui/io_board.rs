@@ -76,6 +76,8 @@ impl DialectPanel for IoBoard {
         egui::ScrollArea::horizontal()
             .id_salt("io_forces")
             .auto_shrink([false, true])
+            // No bar that comes and goes: the lamps below never move (the wheel scrolls it).
+            .scroll_bar_visibility(egui::scroll_area::ScrollBarVisibility::AlwaysHidden)
             .show(ui, |ui| {
                 ui.horizontal(|ui| {
                     ui.label(RichText::new(format!("Forces: {}", forces.len())).strong());

@@ -29,7 +29,7 @@ const GAP: f32 = 12.0;
 /// The drawing grows with a wide panel up to this factor (text and symbols with it).
 const MAX_ZOOM: f32 = 1.6;
 /// Room right of the right rail for a rung's state ("not yet / this scan").
-const NOTE_W: f32 = 56.0;
+const NOTE_W: f32 = 76.0;
 const COMMENT_H: f32 = 15.0;
 /// Rung comment lines the panel shows.
 const COMMENT_LINES: usize = 2;
@@ -285,16 +285,16 @@ impl RungDrawing<'_> {
         }
         let note = match self.power.state {
             RungState::Done => None,
-            RungState::NotYet => Some("not yet this scan"),
-            RungState::NotRun => Some("not run this scan"),
-            RungState::MasterOff => Some("MC off: outputs off"),
+            RungState::NotYet => Some("not yet\nthis scan"),
+            RungState::NotRun => Some("not run\nthis scan"),
+            RungState::MasterOff => Some("MC off:\noutputs off"),
         };
         if let Some(note) = note {
             // Right of the right rail, where no element stands.
             painter.text(
                 pos2(right + g.at(6.0), top + g.at(4.0)),
                 Align2::LEFT_TOP,
-                note.replacen(' ', "\n", 1),
+                note,
                 g.font(10.0),
                 self.ink.dim,
             );

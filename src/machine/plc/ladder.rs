@@ -718,9 +718,9 @@ impl RungPower {
     /// The power of `rung` when `conducts(instr)` says which contacts conduct.
     pub fn of(rung: &Rung, state: RungState, conducts: impl Fn(usize) -> bool) -> RungPower {
         let mut node = vec![false; rung.nodes as usize];
-        // A rung jumped over or in an MCS area that is off gets no power: its contacts still
-        // show their bits, its coils and boxes see their input off.
-        node[RAIL as usize] = matches!(state, RungState::Done | RungState::NotYet);
+        // Only a rung this scan evaluated has power: one not reached yet, jumped over or in an
+        // MCS area that is off shows its contacts' bits, its coils and boxes no power.
+        node[RAIL as usize] = state == RungState::Done;
         let mut order: Vec<usize> = (0..rung.elements.len()).collect();
         order.sort_by_key(|&i| {
             let e = &rung.elements[i];
@@ -1001,6 +1001,16 @@ pub fn svg(
                             escape(&fit(l, 16))
                         );
                     }
+                    if !e.comment.is_empty() {
+                        let _ = writeln!(
+                            body,
+                            r##"<text class="note" x="{mid}" y="{}" text-anchor="middle" fill="#2a7a2a" font-size="9"><title>{}</title>{}</text>"##,
+                            // Inside the box, along its bottom edge.
+                            yc - CELL_H / 2 + 8 + h - 5,
+                            escape(&e.comment),
+                            escape(&fit(&e.comment, 22))
+                        );
+                    }
                 }
                 _ => {
                     let (l, r) = (mid - 12, mid + 12);
@@ -1206,6 +1216,19 @@ mod tests {
             "the first leg enters at the top"
         );
         assert_eq!(named(cnt, "P").row, b.row + 1);
+    }
+
+    #[test]
+    fn only_an_evaluated_rung_has_power() {
+        let ladder = Ladder::build([Step::Load(c(0, "X1")), Step::Output(coil(1, "Y1"))]);
+        let r = &ladder.rungs[0];
+        for state in [RungState::NotYet, RungState::NotRun, RungState::MasterOff] {
+            let p = RungPower::of(r, state, |_| true);
+            assert_eq!(p.element, [true, false], "{state:?}: the contact shows its bit");
+            assert!(!p.node[1], "{state:?}: no power past it");
+        }
+        let p = RungPower::of(r, RungState::Done, |_| true);
+        assert_eq!(p.element, [true, true]);
     }
 
     #[test]
