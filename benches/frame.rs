@@ -101,14 +101,6 @@ fn benches(c: &mut Criterion) {
     group.bench_function("a frame with a 2,000-rung ladder mid-scan", |b| {
         b.iter(|| h.step())
     });
-    // The I/O board in front instead of the timers: a lamp for each of the 2,000 relays.
-    h.state_mut()
-        .layout
-        .focus(&servoscope::ui::layout::Pane::Dialect("I/O board".into()));
-    h.run_steps(2);
-    group.bench_function("a frame with a 2,000-rung ladder and its I/O board", |b| {
-        b.iter(|| h.step())
-    });
     group.finish();
 }
 

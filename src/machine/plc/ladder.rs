@@ -1224,7 +1224,11 @@ mod tests {
         let r = &ladder.rungs[0];
         for state in [RungState::NotYet, RungState::NotRun, RungState::MasterOff] {
             let p = RungPower::of(r, state, |_| true);
-            assert_eq!(p.element, [true, false], "{state:?}: the contact shows its bit");
+            assert_eq!(
+                p.element,
+                [true, false],
+                "{state:?}: the contact shows its bit"
+            );
             assert!(!p.node[1], "{state:?}: no power past it");
         }
         let p = RungPower::of(r, RungState::Done, |_| true);
