@@ -100,7 +100,7 @@ impl DialectPanel for IoBoard {
                     }
                     if forces.is_empty() {
                         ui.label(
-                            RichText::new("right-click an input, output or relay lamp to force it")
+                            RichText::new("right-click an I/O or relay lamp to force it")
                                 .color(p.dim),
                         );
                     }
