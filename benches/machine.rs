@@ -1,22 +1,25 @@
 //! Interpreter throughput through each machine's fastest loop (`run_bare`, the headless
-//! runner's). Commands per second = throughput reported by criterion ("elements/s"), one
-//! element per command (or per tick for the move).
+//! runner's), on what users run: every example program of every dialect (turned into an endless
+//! loop where it ends), the vendor manual's calculation idiom, and the older synthetic loops.
+//! Throughput is criterion's "elements/s": commands (statements, scans) for the loops, ticks
+//! (scans) for the examples, whose names say how many commands a tick they run.
 //!
-//! `cargo bench --bench machine`
+//! `cargo bench --bench machine` (or `-- silverlode`, `-- examples`, … to pick)
 
 use std::hint::black_box;
 use std::sync::Arc;
+use std::time::Duration;
 
-use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use criterion::{BenchmarkGroup, Criterion, Throughput, criterion_group, criterion_main};
 use servoscope::machine::silverlode::{SilverLode, assemble};
-use servoscope::machine::{Machine, Pos};
+use servoscope::machine::{Machine, Pos, RunState};
 
 const COMMANDS: u64 = 1_000_000;
 
 #[path = "common/programs.rs"]
 mod programs;
 use programs::{
-    ARITHMETIC, TML_ARITHMETIC, dl205_ladder_program, dl205_program, opennet_ladder_program,
+    ARITHMETIC, IDIOM, TML_ARITHMETIC, dl205_ladder_program, dl205_program, opennet_ladder_program,
     opennet_program,
 };
 
@@ -55,9 +58,152 @@ fn plain_rust(rounds: u64, r22: i32) -> i32 {
     r10 ^ last
 }
 
+/// The idiom loop (`common/idiom.qsl`) as plain Rust, every result kept as above.
+fn idiom_as_plain_rust(rounds: u32, step: i32) -> i32 {
+    let mut r20 = 40_000i32;
+    let q = 1665i64; // q16(0.0254)
+    let mut r25 = rounds;
+    let (r10, r24) = loop {
+        let mut r10 = black_box(r20);
+        r10 = black_box(r10.wrapping_add(step));
+        r20 = black_box(r10);
+        let r23 = black_box(((i64::from(r20) * q) >> 16) as i32);
+        let r24 = black_box(r23 ^ r20);
+        r25 = black_box(r25.wrapping_sub(1));
+        if r25 == 0 {
+            break (r10, r24);
+        }
+    };
+    r10 ^ r24
+}
+
+/// The program made endless: where it ends (`END`), it starts again from its first line, with
+/// the registers as they are.
+fn endless(src: &str, comment: &str, restart: &str) -> String {
+    let mut out = String::from("bench_restart:\n");
+    for line in src.lines() {
+        let code = line.split(comment).next().unwrap_or("");
+        let word = code
+            .rsplit(':')
+            .next()
+            .unwrap_or("")
+            .trim()
+            .trim_end_matches(';');
+        if word.trim().eq_ignore_ascii_case("END") {
+            let label = code.rsplit_once(':').map_or("", |(label, _)| label);
+            let label = if label.is_empty() {
+                String::new()
+            } else {
+                format!("{label}:")
+            };
+            out.push_str(&format!("{label} {restart}\n"));
+        } else {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+    out
+}
+
+/// Run a machine `ticks` ticks from `start`, starting over should it stop (a fault).
+fn run_ticks<M: Machine + Clone>(start: &M, ticks: u64) -> M {
+    let mut m = start.clone();
+    let mut left = ticks;
+    while left > 0 {
+        let from = m.pos().tick;
+        m.run_bare(Pos::at_tick(from + left));
+        left -= m.pos().tick - from;
+        if left > 0 && matches!(m.run_state(), RunState::Ended | RunState::Faulted) {
+            m = start.clone();
+        }
+    }
+    m
+}
+
+/// One example: `ticks` ticks (scans) an iteration, named with its commands a tick.
+fn bench_example<M: Machine + Clone>(
+    group: &mut BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    name: &str,
+    start: M,
+    ticks: u64,
+) {
+    let probe = run_ticks(&start, ticks);
+    let per_tick = probe.steps() as f64 / probe.pos().tick.max(1) as f64;
+    group.throughput(Throughput::Elements(ticks));
+    group.bench_function(format!("{name} ({per_tick:.3} commands a tick)"), |b| {
+        b.iter(|| black_box(run_ticks(&start, ticks).steps()))
+    });
+}
+
+/// Every example of `assets/examples`, by dialect.
+fn examples(c: &mut Criterion) {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .expect("assets/examples")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .collect();
+    files.sort();
+    let mut group = c.benchmark_group("examples");
+    group.warm_up_time(Duration::from_millis(500));
+    group.measurement_time(Duration::from_secs(2));
+    for path in files {
+        let name = path
+            .file_name()
+            .and_then(|n| n.to_str())
+            .unwrap_or("")
+            .to_string();
+        let src = std::fs::read_to_string(&path).expect("example reads");
+        match path.extension().and_then(|e| e.to_str()) {
+            Some("qsl") => {
+                let start = machine(&endless(&src, ";", "JMP bench_restart"));
+                bench_example(&mut group, &name, start, COMMANDS);
+            }
+            Some("tml") => {
+                let start = servoscope::machine::tml::dialect::machine(&endless(
+                    &src,
+                    "//",
+                    "GOTO bench_restart;",
+                ))
+                .expect("example assembles");
+                bench_example(&mut group, &name, start, COMMANDS / 10);
+            }
+            Some("dl205") => {
+                let start =
+                    servoscope::machine::dl205::dialect::machine(&src).expect("example assembles");
+                bench_example(&mut group, &name, start, 10_000);
+            }
+            Some("opennet") => {
+                let start = servoscope::machine::opennet::dialect::machine(&src)
+                    .expect("example assembles");
+                bench_example(&mut group, &name, start, 10_000);
+            }
+            _ => {}
+        }
+    }
+    group.finish();
+}
+
 fn benches(c: &mut Criterion) {
     let mut group = c.benchmark_group("silverlode");
     group.throughput(Throughput::Elements(COMMANDS));
+
+    let start = machine(IDIOM);
+    group.bench_function("idiom loop (commands)", |b| {
+        b.iter(|| {
+            let mut m = start.clone();
+            m.run_bare(Pos::at_tick(COMMANDS));
+            black_box(m.reg(24))
+        })
+    });
+    group.bench_function("idiom loop as plain Rust (commands)", |b| {
+        // Seven commands a round; the three WRPs before the loop are not counted.
+        b.iter(|| {
+            black_box(idiom_as_plain_rust(
+                black_box(COMMANDS as u32 / 7),
+                black_box(7),
+            ))
+        })
+    });
 
     let start = machine(ARITHMETIC);
     group.bench_function("arithmetic loop (commands)", |b| {
@@ -159,5 +305,5 @@ fn benches(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(machine_benches, benches);
+criterion_group!(machine_benches, benches, examples);
 criterion_main!(machine_benches);

@@ -203,44 +203,9 @@ pub fn toggles_to_events(toggles: &[InputToggle]) -> Vec<UserEvent> {
         .collect()
 }
 
-/// Run `machine` until it stops or reaches `max_ticks`, applying each event when the machine
-/// reaches its position; events before the current position count as already applied. This is
-/// the timeline's own replay, so a run and a session agree.
-/// `stop` is asked before every instruction.
-pub fn run_events<M: Machine, F: FnMut(&M) -> bool>(
-    machine: &mut M,
-    events: &[UserEvent],
-    max_ticks: u64,
-    stop: F,
-) -> StopReason {
-    let mut events = events.to_vec();
-    events.sort_by_key(|e| e.at);
-    let mut next = events.partition_point(|e| e.at < machine.pos());
-    history::replay(
-        machine,
-        &events,
-        &mut next,
-        Pos::at_tick(max_ticks),
-        stop,
-        |_, _| {},
-    )
-}
-
-/// [`run_events`] with nothing to ask at the boundaries: the machine's fastest loop.
-pub fn run_events_bare<M: Machine>(
-    machine: &mut M,
-    events: &[UserEvent],
-    max_ticks: u64,
-) -> StopReason {
-    let mut events = events.to_vec();
-    events.sort_by_key(|e| e.at);
-    let mut next = events.partition_point(|e| e.at < machine.pos());
-    history::replay_bare(machine, &events, &mut next, Pos::at_tick(max_ticks))
-}
-
 /// Run `machine` until it stops or reaches `max_ticks`, toggling inputs on the way.
 pub fn run_with_inputs<M: Machine>(machine: &mut M, toggles: &[InputToggle], max_ticks: u64) {
-    run_events_bare(machine, &toggles_to_events(toggles), max_ticks);
+    history::run_events_bare(machine, &toggles_to_events(toggles), max_ticks);
 }
 
 /// Where `--break` stopped a run.

@@ -12,6 +12,7 @@ use common::channel_named;
 use proptest::prelude::*;
 use servoscope::debugger::history::{Change, Timeline, UserEvent};
 use servoscope::debugger::trace::Channel;
+use servoscope::machine::silverlode::program::{ClcOp, ExtOp};
 use servoscope::machine::silverlode::{SilverLode, assemble, view::reg};
 use servoscope::machine::{Machine, MachineView, Pos};
 
@@ -25,27 +26,26 @@ fn data() -> impl Strategy<Value = i32> {
     prop_oneof![
         -3i32..4,
         any::<i32>(),
+        // Register numbers for COPY_REF/SAVE_REF, a queue's slots, Q_READ's reach.
+        prop::sample::select(vec![20, 21, 41, 199, 200, -4]),
         prop::sample::select(vec![i32::MIN, i32::MAX, 0x7FFF_FFFF, 65536, 98304]),
     ]
 }
 
-/// One line of a program with `lines` lines (jump targets are line labels).
+/// The queue every program sets up first: four slots at R40.
+const QUEUE: &str = "CLD Q_INIT, 11, 40, 4\n";
+
+/// One line of a program with `lines` lines (jump targets are line labels): every command
+/// the fast loop runs, and some it hands over.
 fn line(lines: usize) -> impl Strategy<Value = String> {
-    let ext = prop::sample::select(vec![
-        "ADD",
-        "SUB",
-        "AND",
-        "OR",
-        "XOR",
-        "MULT_S",
-        "MULT_U",
-        "MULT_S64_SHR16",
-        "DIV",
-        "MAX",
-    ]);
-    let clc = prop::sample::select(vec![
-        "ADD", "SUB", "MULT_S", "AND", "OR", "XOR", "INC", "DEC", "SHL", "COPY",
-    ]);
+    let ext = prop::sample::select(
+        ExtOp::NAMES
+            .iter()
+            .copied()
+            .filter(|n| *n != "Q_INIT")
+            .collect::<Vec<_>>(),
+    );
+    let clc = prop::sample::select(ClcOp::NAMES.to_vec());
     let cond = prop::sample::select(vec![
         "",
         ", ZERO",
@@ -54,13 +54,29 @@ fn line(lines: usize) -> impl Strategy<Value = String> {
         ", !POSITIVE",
         ", IO1",
     ]);
+    let queue_op = prop::sample::select(vec![
+        "Q_PUSH_HEAD",
+        "Q_POP_HEAD",
+        "Q_PUSH_TAIL",
+        "Q_POP_TAIL",
+        "Q_READ",
+        "Q_PUSH_TAIL_ERR",
+        "Q_POP_HEAD_ERR",
+    ]);
+    // Mostly the queue at R40, sometimes a register that holds no queue.
+    let base = prop_oneof![4 => Just(40u8), 1 => register()];
     prop_oneof![
         6 => (ext.clone(), register(), register(), data())
             .prop_map(|(op, r, a, d)| format!("CLD {op}, {r}, {a}, {d}")),
         4 => (ext, register(), register(), register())
             .prop_map(|(op, r, a, b)| format!("CLX {op}, {r}, {a}, {b}")),
-        4 => (clc, register()).prop_map(|(op, r)| format!("CLC {op}, {r}")),
+        3 => (queue_op, register(), base, data())
+            .prop_map(|(op, r, b, d)| format!("CLD {op}, {r}, {b}, {d}")),
+        6 => (clc, register()).prop_map(|(op, r)| format!("CLC {op}, {r}")),
         4 => (0..lines, cond).prop_map(|(t, c)| format!("JMP l{t}{c}")),
+        1 => (0..lines).prop_map(|t| format!("CALL l{t}")),
+        1 => Just("RET".to_string()),
+        1 => (0..lines).prop_map(|t| format!("CER l{t}")),
         1 => (register(), data()).prop_map(|(r, v)| format!("WRP {r}, {v}")),
         1 => (1u32..5).prop_map(|n| format!("DLY {n}")),
         1 => (-300i32..300).prop_map(|d| format!("MRV {d}, 3865, 67108864")),
@@ -70,13 +86,20 @@ fn line(lines: usize) -> impl Strategy<Value = String> {
 
 fn program() -> impl Strategy<Value = String> {
     (2usize..14)
-        .prop_flat_map(|n| prop::collection::vec(line(n), n))
-        .prop_map(|lines| {
-            let mut text: String = lines
-                .iter()
-                .enumerate()
-                .map(|(i, l)| format!("l{i}: {l}\n"))
-                .collect();
+        .prop_flat_map(|n| (prop::collection::vec(line(n), n), any::<bool>()))
+        .prop_map(|(lines, handled)| {
+            let mut text = String::from(QUEUE);
+            // Most generated programs fault soon; a handler keeps half of them running past
+            // their faults, so long runs go through the fast loop's hand-overs.
+            if handled {
+                text.push_str("CER l0\n");
+            }
+            text.extend(
+                lines
+                    .iter()
+                    .enumerate()
+                    .map(|(i, l)| format!("l{i}: {l}\n")),
+            );
             // Round and round, so runs last to their tick limits.
             text.push_str("JMP l0\n");
             text
@@ -487,4 +510,45 @@ proptest! {
         prop_assert_eq!(&quiet.machine, &observed.machine);
         prop_assert!(quiet.trace.samples().eq(observed.trace.samples()));
     }
+}
+
+/// Every SilverLode command that cannot fault with these operands, wait, move, end or write the
+/// motion model's inputs has a form in the fast loop, so a program of them never leaves it.
+#[test]
+fn every_register_only_command_has_a_fast_form() {
+    use servoscope::machine::silverlode::program::{ClcWrites, Op};
+    let mut src = String::from("top: CLD Q_INIT, 11, 40, 4\n");
+    // Operands that fault nowhere: R20 = 3 names a register and divides; R22 = 5, and
+    // R24:R25 = 2^32 + 3 divided by 3 or 5 fits 32 bits; the queue has room for the two pushes
+    // of each kind.
+    let clc = ClcOp::ALL
+        .iter()
+        .filter(|op| op.writes() != ClcWrites::Positions);
+    for op in clc {
+        src.push_str(&format!("WRP 20, 3\nCLC {}, 20\n", op.name()));
+    }
+    src.push_str("WRP 22, 5\nWRP 24, 1\nWRP 25, 3\n");
+    for op in ExtOp::ALL.iter().filter(|&&op| op != ExtOp::QInit) {
+        let a = if op.is_queue() { 40 } else { 24 };
+        let name = op.name();
+        src.push_str(&format!(
+            "CLD {name}, 30, {a}, 3\nCLX {name}, 30, {a}, 22\n"
+        ));
+    }
+    src.push_str("CALL sub\nJMP top\nsub: RET\nJMP top\n");
+    let program = assemble(&src).expect("assembles");
+    let slow: Vec<String> = (1..program.instrs.len() - 1)
+        .filter(|&i| program.flat[i] == Op::Full)
+        .map(|i| format!("line {}: {:?}", program.lines[i], program.instrs[i]))
+        .collect();
+    assert!(slow.is_empty(), "left to the full executor: {slow:#?}");
+    // A loop of them runs in the fast loop as the full executor runs it.
+    let mut fast = machine(&src);
+    let mut full = fast.clone();
+    assert_eq!(
+        fast.run_bare(Pos::at_tick(50_000)),
+        full.run_observed(Pos::at_tick(50_000), |_| false, |_| {})
+    );
+    assert_eq!(fast, full);
+    assert_eq!(fast.steps(), 50_000, "{:?}", fast.state().fault);
 }

@@ -1,6 +1,10 @@
 //! Programs more than one benchmark runs.
 #![allow(dead_code)]
 
+/// The vendor manual's idiom (CLC COPY/ADD/SAVE, a Q16.16 scaling, CLX XOR, CLC DEC, a
+/// conditional jump) as a loop: seven commands a round.
+pub const IDIOM: &str = include_str!("idiom.qsl");
+
 /// Eight commands a round: CLD, CLX and CLC arithmetic and a conditional jump.
 pub const ARITHMETIC: &str = "\
 loop: CLD ADD, 20, 20, 3
@@ -155,17 +159,4 @@ pub fn opennet_ladder_program() -> String {
 
 /// Ten statements a round: 16- and 32-bit adds, a multiply into PREG, a fixed division, a
 /// shift, a read of PRODH and a conditional jump.
-pub const TML_ARITHMETIC: &str = "\
-int i; int k; long l; fixed f; long h;
-        k = 7;
-loop:   i += 3;
-        l += i;
-        l * k << 2;
-        h = PRODH;
-        f = l;
-        f /= k;
-        l >>= 1;
-        i -= 1;
-        f += 0.5;
-        GOTO loop, k, GT;
-";
+pub const TML_ARITHMETIC: &str = include_str!("tml_arithmetic.tml");

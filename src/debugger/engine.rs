@@ -235,7 +235,7 @@ impl<M: Machine> Engine for Core<M> {
         self.timeline.memory_bytes()
     }
     fn run_headless(&mut self, events: &[UserEvent], max_ticks: u64) {
-        crate::runner::run_events_bare(&mut self.timeline.machine, events, max_ticks);
+        super::history::run_events_bare(&mut self.timeline.machine, events, max_ticks);
     }
     fn run_headless_observed(
         &mut self,
@@ -243,6 +243,6 @@ impl<M: Machine> Engine for Core<M> {
         max_ticks: u64,
         stop: &mut dyn FnMut(&dyn MachineView) -> bool,
     ) -> StopReason {
-        crate::runner::run_events(&mut self.timeline.machine, events, max_ticks, |m| stop(m))
+        super::history::run_events(&mut self.timeline.machine, events, max_ticks, |m| stop(m))
     }
 }

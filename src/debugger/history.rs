@@ -108,6 +108,41 @@ pub fn replay_bare<M: Machine>(
     }
 }
 
+/// Run `machine` until it stops or reaches `max_ticks`, applying each event when the machine
+/// reaches its position; events before the current position count as already applied. This is
+/// the timeline's own replay, so a run and a session agree.
+/// `stop` is asked before every instruction.
+pub fn run_events<M: Machine, F: FnMut(&M) -> bool>(
+    machine: &mut M,
+    events: &[UserEvent],
+    max_ticks: u64,
+    stop: F,
+) -> StopReason {
+    let mut events = events.to_vec();
+    events.sort_by_key(|e| e.at);
+    let mut next = events.partition_point(|e| e.at < machine.pos());
+    replay(
+        machine,
+        &events,
+        &mut next,
+        Pos::at_tick(max_ticks),
+        stop,
+        |_, _| {},
+    )
+}
+
+/// [`run_events`] with nothing to ask at the boundaries: the machine's fastest loop.
+pub fn run_events_bare<M: Machine>(
+    machine: &mut M,
+    events: &[UserEvent],
+    max_ticks: u64,
+) -> StopReason {
+    let mut events = events.to_vec();
+    events.sort_by_key(|e| e.at);
+    let mut next = events.partition_point(|e| e.at < machine.pos());
+    replay_bare(machine, &events, &mut next, Pos::at_tick(max_ticks))
+}
+
 fn apply_due<M: MachineView>(m: &mut M, events: &[UserEvent], next: &mut usize) -> bool {
     let now = m.pos();
     let mut applied = false;

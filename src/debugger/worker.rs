@@ -44,22 +44,6 @@ pub(crate) struct Worker {
     thread: Option<JoinHandle<()>>,
 }
 
-/// The nice value of the simulation thread: the window's frames (and, without a GPU, the
-/// rasterizer's threads) take the CPU first and the run takes the rest, so frames keep their
-/// pace on a machine with few cores. Measured on 2 cores under Xvfb: frame interval 24 → 15.6 ms,
-/// the run 307 → 174 M ticks/s.
-const SIMULATION_NICE: i32 = 19;
-
-/// Lower this thread's scheduling priority (Linux only; elsewhere the system decides).
-fn yield_to_the_window() {
-    #[cfg(target_os = "linux")]
-    {
-        let this_thread = rustix::thread::gettid();
-        // Failing leaves the thread at normal priority: slower frames, nothing worse.
-        let _ = rustix::process::setpriority_process(Some(this_thread), SIMULATION_NICE);
-    }
-}
-
 impl Worker {
     /// The thread, or `None` when the system gives none (the window then runs in its frames).
     pub fn spawn() -> Option<Worker> {
@@ -69,8 +53,13 @@ impl Worker {
         let flag = Arc::clone(&call_back);
         let thread = std::thread::Builder::new()
             .name("simulation".into())
+            // At the window's own priority: a lower one starves the run as soon as another
+            // process wants a core (the scheduler then puts it beside that process). Measured on
+            // 2 cores without a GPU under Xvfb, `servoscope --frame-stats 300
+            // benches/common/idiom.qsl` with `yes` on one core, nice 19 → 5 → 2 → 0: the run
+            // 68 → 103 → 165 → 200–211 M ticks/s, frame median 21.5 → 15.5 → 17.7 → 20–22 ms
+            // (software rendering takes about a core at 60 frames/s; with a GPU it costs little).
             .spawn(move || {
-                yield_to_the_window();
                 // Ticks a chunk runs, adapted to the machine's speed and kept between jobs.
                 let mut chunk = 1_000;
                 while let Ok(job) = job_rx.recv() {
@@ -145,22 +134,5 @@ fn run_job(job: Job, call_back: &AtomicBool, chunk: &mut u64) -> Done {
         engine,
         checker: checker.into_inner(),
         reason,
-    }
-}
-
-#[cfg(all(test, target_os = "linux"))]
-mod tests {
-    #[test]
-    fn the_simulation_thread_runs_below_the_window() {
-        let nice = std::thread::spawn(|| {
-            super::yield_to_the_window();
-            rustix::process::getpriority_process(Some(rustix::thread::gettid()))
-        })
-        .join()
-        .expect("the thread ends");
-        assert_eq!(nice.ok(), Some(super::SIMULATION_NICE));
-        // The calling thread (the window's) keeps its own.
-        let here = rustix::process::getpriority_process(Some(rustix::thread::gettid()));
-        assert_ne!(here.ok(), Some(super::SIMULATION_NICE));
     }
 }

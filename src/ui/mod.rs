@@ -1157,6 +1157,12 @@ pub fn run_gui(
         "servoscope",
         options,
         Box::new(move |cc| {
+            // egui keeps scroll animations in its saved memory with times of the last session;
+            // reloaded, one mid-flight never ends (the clock starts again at 0) and asks for a
+            // frame at once, every frame, for as long as the app runs. Scroll positions are
+            // not worth keeping.
+            cc.egui_ctx
+                .memory_mut(|m| m.data.remove_by_type::<egui::scroll_area::State>());
             let prefs: Prefs = cc
                 .storage
                 .and_then(|s| eframe::get_value(s, PREFS_KEY))

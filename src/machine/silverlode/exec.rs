@@ -26,20 +26,318 @@ fn flag_bits(v: i32) -> u16 {
     }
 }
 
-fn check_divisor(dividend: i32, divisor: i32, what: &str) -> Result<(), Raise> {
+/// The fault of a division by `divisor` (0, or −1 under i32::MIN); `what` names the divisor.
+#[cold]
+fn divisor_fault(dividend: i32, divisor: i32, what: impl FnOnce() -> String) -> Raise {
     if divisor == 0 {
-        return Err(Raise(
+        Raise(
             FaultKind::DivideByZero,
-            format!("divide by zero: the divisor {what} is 0"),
-        ));
-    }
-    if dividend == i32::MIN && divisor == -1 {
-        return Err(Raise(
+            format!("divide by zero: the divisor {} is 0", what()),
+        )
+    } else {
+        Raise(
             FaultKind::DivideOverflow,
-            "-2147483648 / -1 does not fit in 32 bits".to_string(),
-        ));
+            format!("{dividend} / -1 does not fit in 32 bits"),
+        )
     }
-    Ok(())
+}
+
+/// What a register-only command did: the values its explanation shows, whether it succeeded
+/// (a flag-variant queue operation may not), and the flag bits it leaves.
+struct Effect {
+    vals: [i32; 4],
+    outcome: Outcome,
+    flags: u16,
+}
+
+impl Effect {
+    #[inline(always)]
+    fn value(vals: [i32; 4], v: i32) -> Effect {
+        Effect {
+            vals,
+            outcome: Outcome::Done,
+            flags: flag_bits(v),
+        }
+    }
+}
+
+/// A CLC command but SUB_TARGET, on the registers alone: the full executor and the fast loop
+/// both run this. A fault leaves the registers untouched.
+#[inline]
+fn clc_effect(regs: &mut [i32; REGISTERS], op: ClcOp, reg: usize) -> Result<Effect, Raise> {
+    let acc = regs[10];
+    let x = regs[reg];
+    // (register written, value)
+    let (dst, v) = match op {
+        ClcOp::Clear => (reg, 0),
+        ClcOp::Copy => (10, x),
+        ClcOp::Save => (reg, acc),
+        ClcOp::CopyRef | ClcOp::SaveRef => {
+            if !(0..REGISTERS as i32).contains(&x) {
+                return Err(Raise(
+                    FaultKind::BadRegister,
+                    format!("R{reg} = {x} does not name a register (0 ..= 199)"),
+                ));
+            }
+            if op == ClcOp::CopyRef {
+                (10, regs[x as usize])
+            } else {
+                (x as usize, acc)
+            }
+        }
+        ClcOp::Abs => (reg, x.wrapping_abs()),
+        ClcOp::Neg => (reg, x.wrapping_neg()),
+        ClcOp::Inc => (reg, x.wrapping_add(1)),
+        ClcOp::Dec => (reg, x.wrapping_sub(1)),
+        ClcOp::Add => (10, acc.wrapping_add(x)),
+        ClcOp::AddHi => (10, acc.wrapping_add(sx16(hi(x)))),
+        ClcOp::AddLo => (10, acc.wrapping_add(sx16(lo(x)))),
+        ClcOp::Sub => (10, acc.wrapping_sub(x)),
+        ClcOp::SubRev => (10, x.wrapping_sub(acc)),
+        ClcOp::MultS | ClcOp::MultU => (10, acc.wrapping_mul(x)),
+        ClcOp::Div | ClcOp::Mod => {
+            let divisor = sx16(lo(x));
+            if divisor == 0 || (acc == i32::MIN && divisor == -1) {
+                return Err(divisor_fault(acc, divisor, || {
+                    format!("LO(R{reg}) of 0x{:08X}", x as u32)
+                }));
+            }
+            if op == ClcOp::Div {
+                (10, acc / divisor)
+            } else {
+                (10, acc % divisor)
+            }
+        }
+        ClcOp::Max => (10, acc.max(x)),
+        ClcOp::Min => (10, acc.min(x)),
+        ClcOp::And => (10, acc & x),
+        ClcOp::Or => (10, acc | x),
+        ClcOp::Xor => (10, acc ^ x),
+        ClcOp::Shl => (reg, x.wrapping_shl(1)),
+        ClcOp::ShrS => (reg, x >> 1),
+        ClcOp::ShrU => (reg, (x as u32 >> 1) as i32),
+        ClcOp::CopyWordHiAcc => (10, lo(x) << 16 | lo(acc)),
+        ClcOp::CopyWordHiReg => (reg, lo(acc) << 16 | lo(x)),
+        ClcOp::CopyWordLoReg => (reg, (x as u32 & 0xFFFF_0000) as i32 | lo(acc)),
+        ClcOp::SextHi => (10, sx16(hi(x))),
+        ClcOp::SextLo => (10, sx16(lo(x))),
+        // Moves the zero point: the executor's own (`SilverLode::clc`).
+        ClcOp::SubTarget => {
+            return Err(Raise(
+                FaultKind::BadRegister,
+                "SUB_TARGET moves the motion model".to_string(),
+            ));
+        }
+    };
+    regs[dst] = v;
+    Ok(Effect::value([acc, x, v, 0], v))
+}
+
+/// A CLD/CLX command but Q_INIT, on the registers alone: the full executor and the fast loop
+/// both run this. A fault leaves the registers untouched.
+#[inline]
+fn ext_effect(
+    regs: &mut [i32; REGISTERS],
+    op: ExtOp,
+    res: usize,
+    reg1: usize,
+    d: i32,
+) -> Result<Effect, Raise> {
+    let a = regs[reg1];
+    let v = match op {
+        ExtOp::Copy => a,
+        ExtOp::Abs => a.wrapping_abs(),
+        ExtOp::Neg => a.wrapping_neg(),
+        ExtOp::Add => a.wrapping_add(d),
+        ExtOp::Sub => a.wrapping_sub(d),
+        ExtOp::SubRev => d.wrapping_sub(a),
+        ExtOp::AddHi => sx16(hi(a)).wrapping_add(d),
+        ExtOp::AddLo => sx16(lo(a)).wrapping_add(d),
+        ExtOp::And => a & d,
+        ExtOp::Or => a | d,
+        ExtOp::Xor => a ^ d,
+        ExtOp::Max => a.max(d),
+        ExtOp::Min => a.min(d),
+        ExtOp::SextHi => sx16(hi(a)),
+        ExtOp::SextLo => sx16(lo(a)),
+        ExtOp::PackLoLo => lo(a) << 16 | lo(d),
+        ExtOp::PackHiLo => hi(a) << 16 | lo(d),
+        ExtOp::PackHiHi => hi(a) << 16 | hi(d),
+        ExtOp::MultS | ExtOp::MultU => a.wrapping_mul(d),
+        ExtOp::MultS64Shr16 => ((i64::from(a) * i64::from(d)) >> 16) as i32,
+        ExtOp::Div | ExtOp::Mod => {
+            let divisor = sx16(lo(d));
+            if divisor == 0 || (a == i32::MIN && divisor == -1) {
+                return Err(divisor_fault(a, divisor, || {
+                    format!("LO(data) of 0x{:08X}", d as u32)
+                }));
+            }
+            if op == ExtOp::Div {
+                a / divisor
+            } else {
+                a % divisor
+            }
+        }
+        ExtOp::DivRev | ExtOp::ModRev => {
+            let divisor = sx16(lo(a));
+            if divisor == 0 || (d == i32::MIN && divisor == -1) {
+                return Err(divisor_fault(d, divisor, || {
+                    format!("LO(R{reg1}) of 0x{:08X}", a as u32)
+                }));
+            }
+            if op == ExtOp::DivRev {
+                d / divisor
+            } else {
+                d % divisor
+            }
+        }
+        ExtOp::MultU64 => {
+            if res >= REGISTERS - 1 {
+                return Err(Raise(
+                    FaultKind::BadRegister,
+                    "MULT_U64 needs two result registers; R199 has no R200 after it".to_string(),
+                ));
+            }
+            let p = u64::from(a as u32) * u64::from(d as u32);
+            regs[res + 1] = p as i32;
+            regs[res] = (p >> 32) as i32;
+            return Ok(Effect {
+                vals: [a, d, (p >> 32) as i32, p as i32],
+                outcome: Outcome::Done,
+                flags: if p == 0 { isw::ZERO } else { isw::POSITIVE },
+            });
+        }
+        ExtOp::DivU64 => {
+            if reg1 >= REGISTERS - 1 {
+                return Err(Raise(
+                    FaultKind::BadRegister,
+                    "DIV_U64 reads a register pair; R199 has no R200 after it".to_string(),
+                ));
+            }
+            let low = regs[reg1 + 1];
+            let n = u64::from(a as u32) << 32 | u64::from(low as u32);
+            let divisor = u64::from(d as u32);
+            if divisor == 0 {
+                return Err(Raise(
+                    FaultKind::DivideByZero,
+                    "divide by zero: the 32-bit divisor is 0".to_string(),
+                ));
+            }
+            let q = n / divisor;
+            if q > u64::from(u32::MAX) {
+                return Err(Raise(
+                    FaultKind::DivideOverflow,
+                    format!("{n} / {divisor} = {q} does not fit in 32 bits"),
+                ));
+            }
+            regs[res] = q as i32;
+            return Ok(Effect {
+                vals: [a, low, d, q as i32],
+                outcome: Outcome::Done,
+                flags: if q == 0 { isw::ZERO } else { isw::POSITIVE },
+            });
+        }
+        _ => return queue_effect(regs, op, res, reg1, d),
+    };
+    regs[res] = v;
+    Ok(Effect::value([a, d, v, 0], v))
+}
+
+/// A queue operation but Q_INIT (spec §4).
+fn queue_effect(
+    regs: &mut [i32; REGISTERS],
+    op: ExtOp,
+    res: usize,
+    base: usize,
+    d: i32,
+) -> Result<Effect, Raise> {
+    let before = [regs[base], regs.get(base + 1).copied().unwrap_or(0)];
+    let Some(mut q) = RawQueue::decode(regs, base) else {
+        return Err(Raise(
+            FaultKind::BadQueue,
+            format!(
+                "R{base} does not hold a valid queue header (size|len = 0x{:08X}, head|tail = 0x{:08X})",
+                before[0] as u32, before[1] as u32
+            ),
+        ));
+    };
+    let slot0 = base + 2;
+    let full = q.len == q.size;
+    let empty = q.len == 0;
+    let fail = |kind: FaultKind, what: &str| {
+        Err(Raise(
+            kind,
+            format!(
+                "queue at R{base} is {what} ({} of {} slots used)",
+                q.len, q.size
+            ),
+        ))
+    };
+    let result = match op {
+        ExtOp::QPushHeadErr if full => return fail(FaultKind::QueueFull, "full"),
+        ExtOp::QPushTailErr if full => return fail(FaultKind::QueueFull, "full"),
+        ExtOp::QPopHeadErr | ExtOp::QPopTailErr if empty => {
+            return fail(FaultKind::QueueEmpty, "empty");
+        }
+        ExtOp::QPushHead | ExtOp::QPushTail if full => None,
+        ExtOp::QPopHead | ExtOp::QPopTail if empty => None,
+        ExtOp::QPushHead | ExtOp::QPushHeadErr => {
+            regs[slot0 + q.head as usize] = d;
+            q.head = (q.head + 1) % q.size;
+            q.len += 1;
+            Some((q.size - q.len) as i32)
+        }
+        ExtOp::QPushTail | ExtOp::QPushTailErr => {
+            q.tail = (q.tail + q.size - 1) % q.size;
+            regs[slot0 + q.tail as usize] = d;
+            q.len += 1;
+            Some((q.size - q.len) as i32)
+        }
+        ExtOp::QPopHead | ExtOp::QPopHeadErr => {
+            q.head = (q.head + q.size - 1) % q.size;
+            q.len -= 1;
+            Some(regs[slot0 + q.head as usize])
+        }
+        ExtOp::QPopTail | ExtOp::QPopTailErr => {
+            let v = regs[slot0 + q.tail as usize];
+            q.tail = (q.tail + 1) % q.size;
+            q.len -= 1;
+            Some(v)
+        }
+        _ => {
+            // Q_READ: 0 ..< len from the head (0 = newest), -1 ..= -len from the tail.
+            let n = i64::from(d);
+            let (size, len) = (i64::from(q.size), i64::from(q.len));
+            let slot = if n >= 0 && n < len {
+                Some((i64::from(q.head) - 1 - n).rem_euclid(size))
+            } else if n < 0 && -n <= len {
+                Some((i64::from(q.tail) - 1 - n).rem_euclid(size))
+            } else {
+                None
+            };
+            slot.map(|s| regs[slot0 + s as usize])
+        }
+    };
+    Ok(match result {
+        Some(value) => {
+            if op != ExtOp::QRead {
+                let (h0, h1) = q.encode();
+                regs[base] = h0;
+                regs[base + 1] = h1;
+            }
+            regs[res] = value;
+            Effect {
+                vals: [before[0], before[1], d, value],
+                outcome: Outcome::Done,
+                flags: isw::ZERO,
+            }
+        }
+        None => Effect {
+            vals: [before[0], before[1], d, 0],
+            outcome: Outcome::Failed,
+            flags: isw::NEGATIVE,
+        },
+    })
 }
 
 impl SilverLode {
@@ -182,282 +480,60 @@ impl SilverLode {
 
     #[inline(always)]
     fn clc(&mut self, op: ClcOp, reg: usize) -> Exec {
-        let acc = self.s.regs[10];
-        let x = self.s.regs[reg];
-        // (register written, value)
-        let (dst, v, extra) = match op {
-            ClcOp::Clear => (reg, 0, 0),
-            ClcOp::Copy => (10, x, 0),
-            ClcOp::Save => (reg, acc, 0),
-            ClcOp::CopyRef | ClcOp::SaveRef => {
-                if !(0..REGISTERS as i32).contains(&x) {
-                    return Err(Raise(
-                        FaultKind::BadRegister,
-                        format!("R{reg} = {x} does not name a register (0 ..= 199)"),
-                    ));
-                }
-                if op == ClcOp::CopyRef {
-                    (10, self.s.regs[x as usize], 0)
-                } else {
-                    (x as usize, acc, 0)
-                }
-            }
-            ClcOp::Abs => (reg, x.wrapping_abs(), 0),
-            ClcOp::Neg => (reg, x.wrapping_neg(), 0),
-            ClcOp::Inc => (reg, x.wrapping_add(1), 0),
-            ClcOp::Dec => (reg, x.wrapping_sub(1), 0),
-            ClcOp::Add => (10, acc.wrapping_add(x), 0),
-            ClcOp::AddHi => (10, acc.wrapping_add(sx16(hi(x))), 0),
-            ClcOp::AddLo => (10, acc.wrapping_add(sx16(lo(x))), 0),
-            ClcOp::Sub => (10, acc.wrapping_sub(x), 0),
-            ClcOp::SubRev => (10, x.wrapping_sub(acc), 0),
-            ClcOp::MultS | ClcOp::MultU => (10, acc.wrapping_mul(x), 0),
-            ClcOp::Div | ClcOp::Mod => {
-                let divisor = sx16(lo(x));
-                check_divisor(acc, divisor, &format!("LO(R{reg}) of 0x{:08X}", x as u32))?;
-                if op == ClcOp::Div {
-                    (10, acc / divisor, 0)
-                } else {
-                    (10, acc % divisor, 0)
-                }
-            }
-            ClcOp::Max => (10, acc.max(x), 0),
-            ClcOp::Min => (10, acc.min(x), 0),
-            ClcOp::And => (10, acc & x, 0),
-            ClcOp::Or => (10, acc | x, 0),
-            ClcOp::Xor => (10, acc ^ x, 0),
-            ClcOp::Shl => (reg, x.wrapping_shl(1), 0),
-            ClcOp::ShrS => (reg, x >> 1, 0),
-            ClcOp::ShrU => (reg, (x as u32 >> 1) as i32, 0),
-            ClcOp::CopyWordHiAcc => (10, lo(x) << 16 | lo(acc), 0),
-            ClcOp::CopyWordHiReg => (reg, lo(acc) << 16 | lo(x), 0),
-            ClcOp::CopyWordLoReg => (reg, (x as u32 & 0xFFFF_0000) as i32 | lo(acc), 0),
-            ClcOp::SextHi => (10, sx16(hi(x)), 0),
-            ClcOp::SextLo => (10, sx16(lo(x)), 0),
-            ClcOp::SubTarget => {
-                let (r0, r1) = (self.s.regs[0], self.s.regs[1]);
-                self.record([r0, x, r0.wrapping_sub(x), r1], Outcome::Done);
-                self.shift_positions(i64::from(x), i64::from(x));
-                self.set_flags(self.s.regs[0]);
-                self.complete(self.s.pc + 1);
-                return Ok(());
-            }
-        };
-        self.record([acc, x, v, extra], Outcome::Done);
-        self.s.regs[dst] = v;
-        self.set_flags(v);
-        self.complete(self.s.pc + 1);
+        if op == ClcOp::SubTarget {
+            let (r0, r1, x) = (self.s.regs[0], self.s.regs[1], self.s.regs[reg]);
+            self.record([r0, x, r0.wrapping_sub(x), r1], Outcome::Done);
+            self.shift_positions(i64::from(x), i64::from(x));
+            self.set_flags(self.s.regs[0]);
+            self.complete(self.s.pc + 1);
+            return Ok(());
+        }
+        let effect = clc_effect(&mut self.s.regs, op, reg)?;
+        self.apply(effect);
         Ok(())
     }
 
     #[inline(always)]
     fn ext(&mut self, op: ExtOp, res: usize, reg1: usize, d: i32) -> Exec {
-        let a = self.s.regs[reg1];
-        let v = match op {
-            ExtOp::Copy => a,
-            ExtOp::Abs => a.wrapping_abs(),
-            ExtOp::Neg => a.wrapping_neg(),
-            ExtOp::Add => a.wrapping_add(d),
-            ExtOp::Sub => a.wrapping_sub(d),
-            ExtOp::SubRev => d.wrapping_sub(a),
-            ExtOp::AddHi => sx16(hi(a)).wrapping_add(d),
-            ExtOp::AddLo => sx16(lo(a)).wrapping_add(d),
-            ExtOp::And => a & d,
-            ExtOp::Or => a | d,
-            ExtOp::Xor => a ^ d,
-            ExtOp::Max => a.max(d),
-            ExtOp::Min => a.min(d),
-            ExtOp::SextHi => sx16(hi(a)),
-            ExtOp::SextLo => sx16(lo(a)),
-            ExtOp::PackLoLo => lo(a) << 16 | lo(d),
-            ExtOp::PackHiLo => hi(a) << 16 | lo(d),
-            ExtOp::PackHiHi => hi(a) << 16 | hi(d),
-            ExtOp::MultS | ExtOp::MultU => a.wrapping_mul(d),
-            ExtOp::MultS64Shr16 => ((i64::from(a) * i64::from(d)) >> 16) as i32,
-            ExtOp::Div | ExtOp::Mod => {
-                let divisor = sx16(lo(d));
-                check_divisor(a, divisor, &format!("LO(data) of 0x{:08X}", d as u32))?;
-                if op == ExtOp::Div {
-                    a / divisor
-                } else {
-                    a % divisor
-                }
-            }
-            ExtOp::DivRev | ExtOp::ModRev => {
-                let divisor = sx16(lo(a));
-                check_divisor(d, divisor, &format!("LO(R{reg1}) of 0x{:08X}", a as u32))?;
-                if op == ExtOp::DivRev {
-                    d / divisor
-                } else {
-                    d % divisor
-                }
-            }
-            ExtOp::MultU64 => {
-                if res >= REGISTERS - 1 {
-                    return Err(Raise(
-                        FaultKind::BadRegister,
-                        "MULT_U64 needs two result registers; R199 has no R200 after it"
-                            .to_string(),
-                    ));
-                }
-                let p = u64::from(a as u32) * u64::from(d as u32);
-                self.record([a, d, (p >> 32) as i32, p as i32], Outcome::Done);
-                self.s.regs[res + 1] = p as i32;
-                self.s.regs[res] = (p >> 32) as i32;
-                self.s.isw =
-                    (self.s.isw & !isw::FLAGS) | if p == 0 { isw::ZERO } else { isw::POSITIVE };
-                self.complete(self.s.pc + 1);
-                return Ok(());
-            }
-            ExtOp::DivU64 => {
-                if reg1 >= REGISTERS - 1 {
-                    return Err(Raise(
-                        FaultKind::BadRegister,
-                        "DIV_U64 reads a register pair; R199 has no R200 after it".to_string(),
-                    ));
-                }
-                let low = self.s.regs[reg1 + 1];
-                let n = u64::from(a as u32) << 32 | u64::from(low as u32);
-                let divisor = u64::from(d as u32);
-                if divisor == 0 {
-                    return Err(Raise(
-                        FaultKind::DivideByZero,
-                        "divide by zero: the 32-bit divisor is 0".to_string(),
-                    ));
-                }
-                let q = n / divisor;
-                if q > u64::from(u32::MAX) {
-                    return Err(Raise(
-                        FaultKind::DivideOverflow,
-                        format!("{n} / {divisor} = {q} does not fit in 32 bits"),
-                    ));
-                }
-                self.record([a, low, d, q as i32], Outcome::Done);
-                self.s.regs[res] = q as i32;
-                self.s.isw =
-                    (self.s.isw & !isw::FLAGS) | if q == 0 { isw::ZERO } else { isw::POSITIVE };
-                self.complete(self.s.pc + 1);
-                return Ok(());
-            }
-            _ => return self.queue(op, res, reg1, d),
-        };
-        self.record([a, d, v, 0], Outcome::Done);
-        self.s.regs[res] = v;
-        self.set_flags(v);
-        self.complete(self.s.pc + 1);
+        if op == ExtOp::QInit {
+            return self.queue_init(res, reg1, d);
+        }
+        let effect = ext_effect(&mut self.s.regs, op, res, reg1, d)?;
+        self.apply(effect);
         Ok(())
     }
 
-    fn queue(&mut self, op: ExtOp, res: usize, base: usize, d: i32) -> Exec {
+    /// A register-only command ran: explain it, set its flags, move on.
+    #[inline(always)]
+    fn apply(&mut self, effect: Effect) {
+        self.record(effect.vals, effect.outcome);
+        self.s.isw = (self.s.isw & !isw::FLAGS) | effect.flags;
+        self.complete(self.s.pc + 1);
+    }
+
+    fn queue_init(&mut self, res: usize, base: usize, d: i32) -> Exec {
         let regs = &self.s.regs;
         let before = [regs[base], regs.get(base + 1).copied().unwrap_or(0)];
-        if op == ExtOp::QInit {
-            if d < 1 || base + 1 + d as usize > REGISTERS - 1 {
-                return Err(Raise(
-                    FaultKind::BadQueue,
-                    format!(
-                        "a queue of {d} slots at R{base} does not fit: it needs size ≥ 1 and R{base}–R{} within R0–R199",
-                        i64::from(d) + base as i64 + 1
-                    ),
-                ));
-            }
-            self.record([before[0], before[1], d, d], Outcome::Done);
-            self.s.regs[base] = d << 16;
-            self.s.regs[base + 1] = 0;
-            self.s.regs[res] = d;
-            if !self.s.queue_bases.contains(&(base as u8)) {
-                self.s.queue_bases.push(base as u8);
-            }
-            return self.queue_done(true);
-        }
-        let Some(mut q) = RawQueue::decode(regs, base) else {
+        if d < 1 || base + 1 + d as usize > REGISTERS - 1 {
             return Err(Raise(
                 FaultKind::BadQueue,
                 format!(
-                    "R{base} does not hold a valid queue header (size|len = 0x{:08X}, head|tail = 0x{:08X})",
-                    before[0] as u32, before[1] as u32
+                    "a queue of {d} slots at R{base} does not fit: it needs size ≥ 1 and R{base}–R{} within R0–R199",
+                    i64::from(d) + base as i64 + 1
                 ),
             ));
-        };
-        let slot0 = base + 2;
-        let full = q.len == q.size;
-        let empty = q.len == 0;
-        let fail = |kind: FaultKind, what: &str| {
-            Err(Raise(
-                kind,
-                format!(
-                    "queue at R{base} is {what} ({} of {} slots used)",
-                    q.len, q.size
-                ),
-            ))
-        };
-        let result = match op {
-            ExtOp::QPushHeadErr if full => return fail(FaultKind::QueueFull, "full"),
-            ExtOp::QPushTailErr if full => return fail(FaultKind::QueueFull, "full"),
-            ExtOp::QPopHeadErr | ExtOp::QPopTailErr if empty => {
-                return fail(FaultKind::QueueEmpty, "empty");
-            }
-            ExtOp::QPushHead | ExtOp::QPushTail if full => None,
-            ExtOp::QPopHead | ExtOp::QPopTail if empty => None,
-            ExtOp::QPushHead | ExtOp::QPushHeadErr => {
-                self.s.regs[slot0 + q.head as usize] = d;
-                q.head = (q.head + 1) % q.size;
-                q.len += 1;
-                Some((q.size - q.len) as i32)
-            }
-            ExtOp::QPushTail | ExtOp::QPushTailErr => {
-                q.tail = (q.tail + q.size - 1) % q.size;
-                self.s.regs[slot0 + q.tail as usize] = d;
-                q.len += 1;
-                Some((q.size - q.len) as i32)
-            }
-            ExtOp::QPopHead | ExtOp::QPopHeadErr => {
-                q.head = (q.head + q.size - 1) % q.size;
-                q.len -= 1;
-                Some(self.s.regs[slot0 + q.head as usize])
-            }
-            ExtOp::QPopTail | ExtOp::QPopTailErr => {
-                let v = self.s.regs[slot0 + q.tail as usize];
-                q.tail = (q.tail + 1) % q.size;
-                q.len -= 1;
-                Some(v)
-            }
-            _ => {
-                // Q_READ: 0 ..< len from the head (0 = newest), -1 ..= -len from the tail.
-                let n = i64::from(d);
-                let (size, len) = (i64::from(q.size), i64::from(q.len));
-                let slot = if n >= 0 && n < len {
-                    Some((i64::from(q.head) - 1 - n).rem_euclid(size))
-                } else if n < 0 && -n <= len {
-                    Some((i64::from(q.tail) - 1 - n).rem_euclid(size))
-                } else {
-                    None
-                };
-                slot.map(|s| self.s.regs[slot0 + s as usize])
-            }
-        };
-        match result {
-            Some(value) => {
-                self.record([before[0], before[1], d, value], Outcome::Done);
-                if op != ExtOp::QRead {
-                    let (h0, h1) = q.encode();
-                    self.s.regs[base] = h0;
-                    self.s.regs[base + 1] = h1;
-                }
-                self.s.regs[res] = value;
-                self.queue_done(true)
-            }
-            None => {
-                self.record([before[0], before[1], d, 0], Outcome::Failed);
-                self.queue_done(false)
-            }
         }
-    }
-
-    fn queue_done(&mut self, ok: bool) -> Exec {
-        let flag = if ok { isw::ZERO } else { isw::NEGATIVE };
-        self.s.isw = (self.s.isw & !isw::FLAGS) | flag;
-        self.complete(self.s.pc + 1);
+        self.s.regs[base] = d << 16;
+        self.s.regs[base + 1] = 0;
+        self.s.regs[res] = d;
+        if !self.s.queue_bases.contains(&(base as u8)) {
+            self.s.queue_bases.push(base as u8);
+        }
+        self.apply(Effect {
+            vals: [before[0], before[1], d, d],
+            outcome: Outcome::Done,
+            flags: isw::ZERO,
+        });
         Ok(())
     }
 
@@ -693,12 +769,31 @@ impl SilverLode {
         }
         let SilverLode { program, s, .. } = self;
         let flat = &program.flat[..];
+        let len = program.instrs.len();
         let regs = &mut s.regs;
         let mut isw = s.isw;
         let mut pc = s.pc as usize;
         let mut last = s.last;
         let entry = pc;
         let mut n = 0u64;
+        // A command run through the executor's own arithmetic; one that would fault is left
+        // to the full executor, untouched.
+        macro_rules! effect {
+            ($effect:expr) => {{
+                let Ok(effect) = $effect else {
+                    break;
+                };
+                isw = (isw & !isw::FLAGS) | effect.flags;
+                last = LastExec {
+                    pc: pc as u32,
+                    vals: effect.vals,
+                    outcome: effect.outcome,
+                };
+                pc += 1;
+                n += 1;
+                continue;
+            }};
+        }
         while n < max {
             let Some(&op) = flat.get(pc) else {
                 break;
@@ -789,6 +884,14 @@ impl SilverLode {
                     let (acc, x) = (regs[10], regs[r as usize]);
                     (10, acc ^ x, acc, x)
                 }
+                Op::AccCopy { r } => {
+                    let (acc, x) = (regs[10], regs[r as usize]);
+                    (10, x, acc, x)
+                }
+                Op::AccSave { r } => {
+                    let (acc, x) = (regs[10], regs[r as usize]);
+                    (r, acc, acc, x)
+                }
                 Op::Inc { r } => {
                     let (acc, x) = (regs[10], regs[r as usize]);
                     (r, x.wrapping_add(1), acc, x)
@@ -796,6 +899,71 @@ impl SilverLode {
                 Op::Dec { r } => {
                     let (acc, x) = (regs[10], regs[r as usize]);
                     (r, x.wrapping_sub(1), acc, x)
+                }
+                Op::Wrp { r, value } => {
+                    last = LastExec {
+                        pc: pc as u32,
+                        vals: [regs[r as usize], value, value, 0],
+                        outcome: Outcome::Done,
+                    };
+                    regs[r as usize] = value;
+                    pc += 1;
+                    n += 1;
+                    continue;
+                }
+                Op::Clc { op, r } => {
+                    // A SAVE_REF into R0/R1 moves the motor: the full executor's.
+                    if op == ClcOp::SaveRef && (regs[r as usize] as u32) < 2 {
+                        break;
+                    }
+                    effect!(clc_effect(regs, op, r as usize))
+                }
+                Op::ExtI { op, res, a, d } => {
+                    effect!(ext_effect(regs, op, res as usize, a as usize, d))
+                }
+                Op::ExtR { op, res, a, b } => {
+                    let d = regs[b as usize];
+                    effect!(ext_effect(regs, op, res as usize, a as usize, d))
+                }
+                Op::Call { target } => {
+                    if s.sp as usize >= STACK_DEPTH {
+                        break;
+                    }
+                    last = LastExec {
+                        pc: pc as u32,
+                        vals: [i32::from(s.sp), 0, 0, 0],
+                        outcome: Outcome::Done,
+                    };
+                    s.stack[s.sp as usize] = pc as u32 + 1;
+                    s.sp += 1;
+                    if SPAN {
+                        span.jump(pc, target as usize);
+                    }
+                    pc = target as usize;
+                    n += 1;
+                    continue;
+                }
+                Op::Ret => {
+                    // Returning past the last command ends the program: the full executor's.
+                    let Some(&back) = s.sp.checked_sub(1).and_then(|top| s.stack.get(top as usize))
+                    else {
+                        break;
+                    };
+                    if back as usize >= len {
+                        break;
+                    }
+                    last = LastExec {
+                        pc: pc as u32,
+                        vals: [i32::from(s.sp), 0, 0, 0],
+                        outcome: Outcome::Done,
+                    };
+                    s.sp -= 1;
+                    if SPAN {
+                        span.jump(pc, back as usize);
+                    }
+                    pc = back as usize;
+                    n += 1;
+                    continue;
                 }
                 Op::Jmp { target } => {
                     if SPAN {

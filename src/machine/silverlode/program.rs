@@ -273,10 +273,13 @@ pub struct Program {
     pub flat_writes: crate::machine::WriteSet,
 }
 
-/// A command as the fast loop dispatches on it: one match, operands resolved. Only commands
-/// that read and write plain registers, set the flags and take one tick have a form of their
-/// own; everything else (faults, queues, moves, waits, R0/R1, the end) is [`Op::Full`] and
-/// runs through the full executor.
+/// A command as the fast loop dispatches on it: one match, operands resolved. Every command
+/// that only reads and writes registers (and the call stack), sets the flags and takes one tick
+/// has a form of its own; moves, waits, the end, CER, SUB_TARGET/ZTP/TTP and writes of R0/R1
+/// (the motion model's inputs) are [`Op::Full`] and run through the full executor, and so does
+/// any command whose operands would fault this time (the loop hands it over before it runs).
+/// The commonest calculations have arms of their own; the rest go through the executor's own
+/// arithmetic (`Clc`, `ExtI`, `ExtR`), so the two can never disagree.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Op {
     /// `res = a + d` and the others: `d` an immediate.
@@ -302,8 +305,20 @@ pub enum Op {
     AccAnd { r: u8 },
     AccOr { r: u8 },
     AccXor { r: u8 },
+    /// CLC COPY (R10 = r) and SAVE (r = R10).
+    AccCopy { r: u8 },
+    AccSave { r: u8 },
     Inc { r: u8 },
     Dec { r: u8 },
+    /// Any other CLC operation but SUB_TARGET.
+    Clc { op: ClcOp, r: u8 },
+    /// Any other CLD operation (queues and 64-bit ones included) but Q_INIT.
+    ExtI { op: ExtOp, res: u8, a: u8, d: i32 },
+    /// Any other CLX operation but Q_INIT.
+    ExtR { op: ExtOp, res: u8, a: u8, b: u8 },
+    Wrp { r: u8, value: i32 },
+    Call { target: u32 },
+    Ret,
     Jmp { target: u32 },
     /// Taken when ISW bit `bit` is `want`.
     JmpIf { target: u32, bit: u8, want: u8 },
@@ -311,27 +326,72 @@ pub enum Op {
 }
 
 impl Op {
-    /// The register a plain op writes (jumps and `Full` write none the fast loop knows of).
-    #[inline(always)]
-    pub fn writes(self) -> Option<u8> {
+    /// Every register a command may write when the fast loop runs it, `f` called for each:
+    /// exactly, or every register it could reach when that depends on the data (a SAVE_REF, a
+    /// queue's slots). Jumps, calls and `Full` write none the fast loop knows of.
+    #[inline]
+    pub fn each_write(self, mut f: impl FnMut(u8)) {
         use Op::*;
+        let every_from =
+            |f: &mut dyn FnMut(u8), from: u8| (from..super::REGISTERS as u8).for_each(f);
         match self {
             AddI { res, .. } | SubI { res, .. } | AndI { res, .. } | OrI { res, .. }
             | XorI { res, .. } | MulI { res, .. } | MulShr16I { res, .. } | AddR { res, .. }
             | SubR { res, .. } | AndR { res, .. } | OrR { res, .. } | XorR { res, .. }
-            | MulR { res, .. } | MulShr16R { res, .. } => Some(res),
+            | MulR { res, .. } | MulShr16R { res, .. } => f(res),
             AccAdd { .. } | AccSub { .. } | AccMul { .. } | AccAnd { .. } | AccOr { .. }
-            | AccXor { .. } => Some(10),
-            Inc { r } | Dec { r } => Some(r),
-            Jmp { .. } | JmpIf { .. } | Full => None,
+            | AccXor { .. } | AccCopy { .. } => f(10),
+            AccSave { r } | Inc { r } | Dec { r } | Wrp { r, .. } => f(r),
+            Clc { op, r } => match op.writes() {
+                ClcWrites::Acc => f(10),
+                ClcWrites::Reg => f(r),
+                // Never R0/R1: the fast loop hands such a SAVE_REF over.
+                ClcWrites::Named => every_from(&mut f, 2),
+                ClcWrites::Positions => {}
+            },
+            ExtI { op, res, a, .. } | ExtR { op, res, a, .. } => {
+                f(res);
+                if op == ExtOp::MultU64 {
+                    f(res + 1);
+                } else if op.is_queue() {
+                    // The header and every slot a queue there could have.
+                    every_from(&mut f, a);
+                }
+            }
+            Call { .. } | Ret | Jmp { .. } | JmpIf { .. } | Full => {}
         }
     }
 }
 
-/// The fast loop's form of `instrs`: a command becomes [`Op::Full`] when it could fault, end the
-/// program, wait, move, or write R0/R1 (the motion model's inputs); so does the last command
-/// of a program unless it is a jump (running past it ends the program), and one `Full` follows
-/// the end.
+/// Where a CLC operation puts its result.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ClcWrites {
+    /// The accumulator, R10.
+    Acc,
+    /// Its own register.
+    Reg,
+    /// The register its register names (SAVE_REF).
+    Named,
+    /// R0 and R1 (SUB_TARGET).
+    Positions,
+}
+
+impl ClcOp {
+    pub fn writes(self) -> ClcWrites {
+        use ClcOp::*;
+        match self {
+            Clear | Save | Abs | Neg | Inc | Dec | Shl | ShrS | ShrU | CopyWordHiReg
+            | CopyWordLoReg => ClcWrites::Reg,
+            SaveRef => ClcWrites::Named,
+            SubTarget => ClcWrites::Positions,
+            Copy | CopyRef | Add | AddHi | AddLo | Sub | SubRev | MultS | MultU | Div | Mod
+            | Max | Min | And | Or | Xor | CopyWordHiAcc | SextHi | SextLo => ClcWrites::Acc,
+        }
+    }
+}
+
+/// The fast loop's form of `instrs`: see [`Op`]. The last command of a program is `Full` unless
+/// it is a jump (running past it ends the program), and one `Full` follows the end.
 pub fn flatten(instrs: &[Instr]) -> Vec<Op> {
     let len = instrs.len() as u32;
     let mut flat: Vec<Op> = instrs
@@ -342,7 +402,8 @@ pub fn flatten(instrs: &[Instr]) -> Vec<Op> {
             // A conditional jump there falls through to the end: the fast loop hands that
             // case over when it comes.
             let last = pc + 1 == instrs.len();
-            let writes_motion = op.writes().is_some_and(|r| r <= 1);
+            let mut writes_motion = false;
+            op.each_write(|r| writes_motion |= r <= 1);
             if (last && !matches!(op, Op::Jmp { .. } | Op::JmpIf { .. })) || writes_motion {
                 Op::Full
             } else {
@@ -357,10 +418,24 @@ pub fn flatten(instrs: &[Instr]) -> Vec<Op> {
 /// [`Program::flat_writes`].
 pub fn flat_writes(flat: &[Op]) -> crate::machine::WriteSet {
     let mut set = crate::machine::WriteSet::default();
-    for r in flat.iter().filter_map(|op| op.writes()) {
-        set.insert(super::view::reg(u32::from(r)));
+    for op in flat {
+        op.each_write(|r| set.insert(super::view::reg(u32::from(r))));
     }
     set
+}
+
+/// Whether a CLD/CLX operation has a form in the fast loop with these registers: Q_INIT notes the
+/// queue for the panels (outside the registers), and a register pair or queue header that runs
+/// past R199 faults every time.
+fn fits(op: ExtOp, res: u8, a: u8) -> bool {
+    let last = super::REGISTERS as u8 - 1;
+    match op {
+        ExtOp::QInit => false,
+        ExtOp::MultU64 => res < last,
+        ExtOp::DivU64 => a < last,
+        _ if op.is_queue() => a + 2 <= last,
+        _ => true,
+    }
 }
 
 fn flat_op(instr: Instr, len: u32) -> Op {
@@ -379,7 +454,8 @@ fn flat_op(instr: Instr, len: u32) -> Op {
             ExtOp::Xor => XorI { res, a, d },
             ExtOp::MultS | ExtOp::MultU => MulI { res, a, d },
             ExtOp::MultS64Shr16 => MulShr16I { res, a, d },
-            _ => Full,
+            _ if !fits(op, res, a) => Full,
+            _ => ExtI { op, res, a, d },
         },
         Instr::Clx {
             op,
@@ -394,7 +470,8 @@ fn flat_op(instr: Instr, len: u32) -> Op {
             ExtOp::Xor => XorR { res, a, b },
             ExtOp::MultS | ExtOp::MultU => MulR { res, a, b },
             ExtOp::MultS64Shr16 => MulShr16R { res, a, b },
-            _ => Full,
+            _ if !fits(op, res, a) => Full,
+            _ => ExtR { op, res, a, b },
         },
         Instr::Clc { op, reg: r } => match op {
             ClcOp::Add => AccAdd { r },
@@ -403,12 +480,18 @@ fn flat_op(instr: Instr, len: u32) -> Op {
             ClcOp::And => AccAnd { r },
             ClcOp::Or => AccOr { r },
             ClcOp::Xor => AccXor { r },
+            ClcOp::Copy => AccCopy { r },
+            ClcOp::Save => AccSave { r },
             ClcOp::Inc => Inc { r },
             ClcOp::Dec => Dec { r },
-            _ => Full,
+            ClcOp::SubTarget => Full,
+            _ => Clc { op, r },
         },
-        // A jump past the last command ends the program: the full executor does that.
-        Instr::Jmp { target, .. } if target >= len => Full,
+        Instr::Wrp { reg, value } => Wrp { r: reg, value },
+        // A jump (or call) past the last command ends the program: the full executor does that.
+        Instr::Jmp { target, .. } | Instr::Call { target } if target >= len => Full,
+        Instr::Call { target } => Call { target },
+        Instr::Ret => Ret,
         Instr::Jmp { target, cond: None } => Jmp { target },
         Instr::Jmp {
             target,

@@ -572,7 +572,11 @@ impl Machine for SilverLode {
             // timeline's own loop asks as cheaply.
             return None;
         }
-        let guarded = |op: super::program::Op| op.writes().is_some_and(|r| guard[usize::from(r)]);
+        let guarded = |op: super::program::Op| {
+            let mut hit = false;
+            op.each_write(|r| hit |= guard[usize::from(r)]);
+            hit
+        };
         // One look per command in the loop: a breakpoint line, or a write to a plotted register.
         if quiet.stops.len() != program.flat.len() {
             quiet.stops = (program.flat.iter().enumerate())
@@ -629,8 +633,8 @@ impl Machine for SilverLode {
             // The registers the commands it may have run write: those of its span, or of the
             // whole program when the span is most of it.
             match span.narrow(program.flat.len(), ran) {
-                Some(range) => (program.flat[range].iter().filter_map(|op| op.writes()))
-                    .for_each(|r| quiet.written.insert(reg(u32::from(r)))),
+                Some(range) => (program.flat[range].iter())
+                    .for_each(|op| op.each_write(|r| quiet.written.insert(reg(u32::from(r))))),
                 None => quiet.written.union(program.flat_writes),
             }
         }
