@@ -250,7 +250,16 @@ fn tml_line(lines: usize) -> impl Strategy<Value = String> {
             .prop_map(|(v, op, n)| format!("{v} {op} {n};")),
         2 => (any.clone(), short.clone(), prop::sample::select(vec!["<<", ">>"]), 0u8..12)
             .prop_map(|(a, b, op, n)| format!("{a} * {b} {op} {n};")),
-        1 => long.prop_map(|v| format!("{v} = PRODH;")),
+        1 => long.clone().prop_map(|v| format!("{v} = PRODH;")),
+        2 => (short.clone(), short.clone()).prop_map(|(a, b)| format!("{a} = -{b};")),
+        1 => (long.clone(), long.clone()).prop_map(|(a, b)| format!("{a} = -{b};")),
+        2 => (any.clone(), prop::sample::select(vec!["<<", ">>"]), 0u8..16)
+            .prop_map(|(a, op, n)| format!("{a} = {a} {op} {n};")),
+        1 => (prop::sample::select(vec!["<<=", ">>="]), 0u8..8)
+            .prop_map(|(op, n)| format!("PROD {op} {n};")),
+        1 => (short.clone(), prop::num::u16::ANY, prop::num::u16::ANY)
+            .prop_map(|(v, a, o)| format!("SRB {v}, 0x{a:04X}, 0x{o:04X};")),
+        1 => prop::sample::select(vec!["NOP;", "BEGIN;", "ENDINIT;"]).prop_map(str::to_string),
         1 => Just("f += 0.5;".to_string()),
         2 => (prop::sample::select(vec!["f", "l"]), short.clone()).prop_map(|(a, b)| format!("{a} /= {b};")),
         3 => (0..lines, any, cond).prop_map(|(t, v, c)| format!("GOTO l{t}, {v}, {c};")),

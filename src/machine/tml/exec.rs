@@ -436,6 +436,27 @@ impl Tml {
                     let (va, vb) = (read(vars, a), read(vars, b));
                     self.multiply(index, va, vb, left, n)
                 }
+                Flat::Negate { dst, src } => {
+                    let v = read(vars, src);
+                    store(vars, dst, v.wrapping_neg());
+                    [v, 0, read(vars, dst)]
+                }
+                Flat::AssignShift { dst, src, left, n } => {
+                    let v = read(vars, src);
+                    store(vars, dst, Self::shifted(v, left, n));
+                    [v, i64::from(n), read(vars, dst)]
+                }
+                Flat::Srb { dst, and, or } => {
+                    let old = read(vars, dst);
+                    store(vars, dst, i64::from((old as u16 & and) | or));
+                    [old, 0, read(vars, dst)]
+                }
+                Flat::ShiftProduct { left, n } => {
+                    let old = self.preg_signed();
+                    self.preg = (Self::shifted(old, left, n) as u64) & PREG_MASK;
+                    [old, i64::from(n), self.preg_signed()]
+                }
+                Flat::Nop => [0; 3],
                 Flat::Goto { target } => {
                     span.jump(index, target as usize);
                     next = target;
@@ -636,13 +657,16 @@ fn note_flat_writes(op: Flat, set: &mut WriteSet) {
         | Flat::Add { dst, .. }
         | Flat::Shift { dst, .. }
         | Flat::CopyProduct { dst, .. }
-        | Flat::Div { dst, .. } => set.insert(Loc::new(VARS, u32::from(dst.var))),
-        Flat::MulImm { .. } | Flat::Mul { .. } => {
+        | Flat::Div { dst, .. }
+        | Flat::Negate { dst, .. }
+        | Flat::AssignShift { dst, .. }
+        | Flat::Srb { dst, .. } => set.insert(Loc::new(VARS, u32::from(dst.var))),
+        Flat::MulImm { .. } | Flat::Mul { .. } | Flat::ShiftProduct { .. } => {
             set.insert(Loc::new(DATA, PREG_INDEX));
             set.insert(data_loc(d::PROD));
             set.insert(data_loc(d::PRODH));
         }
-        Flat::Goto { .. } | Flat::GotoIf { .. } | Flat::Full => {}
+        Flat::Goto { .. } | Flat::GotoIf { .. } | Flat::Nop | Flat::Full => {}
     }
 }
 

@@ -219,8 +219,8 @@ impl Slot {
 
 /// A statement as the fast loop dispatches on it: one match, operands resolved to user
 /// variables and immediates. Everything that touches predefined data, halves, the product
-/// register's halves, the stack, motion, events or the end is [`Flat::Full`] and runs through
-/// the full executor.
+/// register's halves (but `v = PROD`/`PRODH`), the stack (it can overflow), motion, events,
+/// waits or the end is [`Flat::Full`] and runs through the full executor.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Flat {
     SetImm { dst: Slot, v: i64 },
@@ -235,6 +235,16 @@ pub enum Flat {
     Div { dst: Slot, divisor: Slot, fixed: bool },
     MulImm { a: Slot, b: i64, left: bool, n: u8 },
     Mul { a: Slot, b: Slot, left: bool, n: u8 },
+    /// `dst = -src`.
+    Negate { dst: Slot, src: Slot },
+    /// `dst = src << n` or `src >> n`.
+    AssignShift { dst: Slot, src: Slot, left: bool, n: u8 },
+    /// The product register shifted in place.
+    ShiftProduct { left: bool, n: u8 },
+    /// `SRB dst, and, or`.
+    Srb { dst: Slot, and: u16, or: u16 },
+    /// `NOP`, `BEGIN`, `ENDINIT`.
+    Nop,
     Goto { target: u32 },
     GotoIf { target: u32, x: Slot, cond: Cond },
     Full,
@@ -321,6 +331,21 @@ fn flat_stmt(op: &Op, len: u32) -> Flat {
             }
             _ => Flat::Full,
         },
+        Op::Negate(dst, src) => match (Slot::of(&dst), Slot::of(&src)) {
+            (Some(dst), Some(src)) => Flat::Negate { dst, src },
+            _ => Flat::Full,
+        },
+        Op::AssignShift { dst, src, left, n } if n < 64 => {
+            match (Slot::of(&dst), Slot::of(&src)) {
+                (Some(dst), Some(src)) => Flat::AssignShift { dst, src, left, n },
+                _ => Flat::Full,
+            }
+        }
+        Op::ShiftProduct { left, n } if n < 64 => Flat::ShiftProduct { left, n },
+        Op::Srb { dst, and, or } => {
+            Slot::of(&dst).map_or_else(full, |dst| Flat::Srb { dst, and, or })
+        }
+        Op::Nop => Flat::Nop,
         Op::Jump {
             target,
             call: false,
