@@ -282,3 +282,22 @@ fn error_flags_follow_the_limits() {
     m.run_until(1_000_000, |_| false);
     assert_eq!(m.isw() & 1 << 9, 0);
 }
+
+/// SUB_TARGET moves the zero point by any amount, as often as a program likes: positions wrap
+/// as the registers do (no overflow, even with overflow checks on), the motor does not move,
+/// and a move afterwards still lands exactly.
+#[test]
+fn the_zero_point_moves_any_distance_any_number_of_times() {
+    let src = "WRP 22, -2000000000\nWRP 23, 20000\n\
+               l: CLC SUB_TARGET, 22\nCLC DEC, 23\nJMP l, !ZERO\n\
+               MRV 500, 3865, 67108864\nEND\n";
+    let m = run_ok(src);
+    // 20,000 shifts by −2·10⁹, modulo 2^32.
+    let shifted = (20_000i64 * 2_000_000_000).rem_euclid(1 << 32) as u32 as i32;
+    assert_eq!(
+        reg(&m, 0),
+        shifted.wrapping_add(500),
+        "R0: the target, then the move"
+    );
+    assert_eq!(reg(&m, 1), reg(&m, 0), "R1 settles on the target");
+}

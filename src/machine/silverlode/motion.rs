@@ -174,11 +174,13 @@ impl Motion {
     }
 
     /// Shift the whole model by whole counts (SUB_TARGET, ZTP): the motor does not move.
+    /// Wrapping, as the registers do: a program may shift by any amount again and again, and
+    /// 2^64 in Q26 is a whole number of 2^32 counts, so R0/R1 read the same either way.
     pub fn shift(&mut self, target_by: i64, actual_by: i64) {
         let t = target_by << FRAC;
-        self.pos -= t;
-        self.end -= t;
-        self.x -= actual_by << FRAC;
+        self.pos = self.pos.wrapping_sub(t);
+        self.end = self.end.wrapping_sub(t);
+        self.x = self.x.wrapping_sub(actual_by << FRAC);
     }
 }
 
