@@ -183,18 +183,28 @@ fn examples(c: &mut Criterion) {
     group.finish();
 }
 
+/// A SilverLode program run `COMMANDS` ticks an iteration; `kept` is a register it writes.
+fn bench_loop(
+    group: &mut BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    name: &str,
+    src: &str,
+    kept: usize,
+) {
+    let start = machine(src);
+    group.bench_function(name, |b| {
+        b.iter(|| {
+            let mut m = start.clone();
+            m.run_bare(Pos::at_tick(COMMANDS));
+            black_box(m.reg(kept))
+        })
+    });
+}
+
 fn benches(c: &mut Criterion) {
     let mut group = c.benchmark_group("silverlode");
     group.throughput(Throughput::Elements(COMMANDS));
 
-    let start = machine(IDIOM);
-    group.bench_function("idiom loop (commands)", |b| {
-        b.iter(|| {
-            let mut m = start.clone();
-            m.run_bare(Pos::at_tick(COMMANDS));
-            black_box(m.reg(24))
-        })
-    });
+    bench_loop(&mut group, "idiom loop (commands)", IDIOM, 24);
     group.bench_function("idiom loop as plain Rust (commands)", |b| {
         // Seven commands a round; the three WRPs before the loop are not counted.
         b.iter(|| {
@@ -205,36 +215,20 @@ fn benches(c: &mut Criterion) {
         })
     });
 
-    let start = machine(ARITHMETIC);
-    group.bench_function("arithmetic loop (commands)", |b| {
-        b.iter(|| {
-            let mut m = start.clone();
-            m.run_bare(Pos::at_tick(COMMANDS));
-            black_box(m.reg(24))
-        })
-    });
+    bench_loop(&mut group, "arithmetic loop (commands)", ARITHMETIC, 24);
     group.bench_function("arithmetic loop as plain Rust (commands)", |b| {
         b.iter(|| black_box(plain_rust(black_box(COMMANDS / 8), black_box(7))))
     });
 
-    let start = machine(QUEUE);
-    group.bench_function("queue push/pop loop (commands)", |b| {
-        b.iter(|| {
-            let mut m = start.clone();
-            m.run_bare(Pos::at_tick(COMMANDS));
-            black_box(m.reg(14))
-        })
-    });
+    bench_loop(&mut group, "queue push/pop loop (commands)", QUEUE, 14);
 
     // A long move: 1,000,000 ticks of trajectory and follower.
-    let start = machine("MAV 1000000, 3865, 67108864\nEND");
-    group.bench_function("long move (ticks)", |b| {
-        b.iter(|| {
-            let mut m = start.clone();
-            m.run_bare(Pos::at_tick(COMMANDS));
-            black_box(m.reg(1))
-        })
-    });
+    bench_loop(
+        &mut group,
+        "long move (ticks)",
+        "MAV 1000000, 3865, 67108864\nEND",
+        1,
+    );
     group.finish();
 
     // TML: ten statements a tick, so 100,000 ticks run 1,000,000 statements.

@@ -26,20 +26,33 @@ fn flag_bits(v: i32) -> u16 {
     }
 }
 
-/// The fault of a division by `divisor` (0, or −1 under i32::MIN); `what` names the divisor.
-#[cold]
-fn divisor_fault(dividend: i32, divisor: i32, what: impl FnOnce() -> String) -> Raise {
+/// `dividend / LO(word)` (`%` when `modulo`), the divisor sign-extended from 16 bits (spec §3);
+/// `what` names the divisor in the fault of a 0 (or of −1 under i32::MIN).
+#[inline]
+fn divide(
+    dividend: i32,
+    word: i32,
+    modulo: bool,
+    what: impl FnOnce() -> String,
+) -> Result<i32, Raise> {
+    let divisor = sx16(lo(word));
     if divisor == 0 {
-        Raise(
+        return Err(Raise(
             FaultKind::DivideByZero,
             format!("divide by zero: the divisor {} is 0", what()),
-        )
-    } else {
-        Raise(
+        ));
+    }
+    if dividend == i32::MIN && divisor == -1 {
+        return Err(Raise(
             FaultKind::DivideOverflow,
             format!("{dividend} / -1 does not fit in 32 bits"),
-        )
+        ));
     }
+    Ok(if modulo {
+        dividend % divisor
+    } else {
+        dividend / divisor
+    })
 }
 
 /// What a register-only command did: the values its explanation shows, whether it succeeded
@@ -95,19 +108,12 @@ fn clc_effect(regs: &mut [i32; REGISTERS], op: ClcOp, reg: usize) -> Result<Effe
         ClcOp::Sub => (10, acc.wrapping_sub(x)),
         ClcOp::SubRev => (10, x.wrapping_sub(acc)),
         ClcOp::MultS | ClcOp::MultU => (10, acc.wrapping_mul(x)),
-        ClcOp::Div | ClcOp::Mod => {
-            let divisor = sx16(lo(x));
-            if divisor == 0 || (acc == i32::MIN && divisor == -1) {
-                return Err(divisor_fault(acc, divisor, || {
-                    format!("LO(R{reg}) of 0x{:08X}", x as u32)
-                }));
-            }
-            if op == ClcOp::Div {
-                (10, acc / divisor)
-            } else {
-                (10, acc % divisor)
-            }
-        }
+        ClcOp::Div | ClcOp::Mod => (
+            10,
+            divide(acc, x, op == ClcOp::Mod, || {
+                format!("LO(R{reg}) of 0x{:08X}", x as u32)
+            })?,
+        ),
         ClcOp::Max => (10, acc.max(x)),
         ClcOp::Min => (10, acc.min(x)),
         ClcOp::And => (10, acc & x),
@@ -165,32 +171,12 @@ fn ext_effect(
         ExtOp::PackHiHi => hi(a) << 16 | hi(d),
         ExtOp::MultS | ExtOp::MultU => a.wrapping_mul(d),
         ExtOp::MultS64Shr16 => ((i64::from(a) * i64::from(d)) >> 16) as i32,
-        ExtOp::Div | ExtOp::Mod => {
-            let divisor = sx16(lo(d));
-            if divisor == 0 || (a == i32::MIN && divisor == -1) {
-                return Err(divisor_fault(a, divisor, || {
-                    format!("LO(data) of 0x{:08X}", d as u32)
-                }));
-            }
-            if op == ExtOp::Div {
-                a / divisor
-            } else {
-                a % divisor
-            }
-        }
-        ExtOp::DivRev | ExtOp::ModRev => {
-            let divisor = sx16(lo(a));
-            if divisor == 0 || (d == i32::MIN && divisor == -1) {
-                return Err(divisor_fault(d, divisor, || {
-                    format!("LO(R{reg1}) of 0x{:08X}", a as u32)
-                }));
-            }
-            if op == ExtOp::DivRev {
-                d / divisor
-            } else {
-                d % divisor
-            }
-        }
+        ExtOp::Div | ExtOp::Mod => divide(a, d, op == ExtOp::Mod, || {
+            format!("LO(data) of 0x{:08X}", d as u32)
+        })?,
+        ExtOp::DivRev | ExtOp::ModRev => divide(d, a, op == ExtOp::ModRev, || {
+            format!("LO(R{reg1}) of 0x{:08X}", a as u32)
+        })?,
         ExtOp::MultU64 => {
             if res >= REGISTERS - 1 {
                 return Err(Raise(
