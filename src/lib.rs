@@ -9,6 +9,7 @@
 
 pub mod atomic;
 pub mod debugger;
+pub mod lesson;
 pub mod machine;
 pub mod runner;
 pub mod session;

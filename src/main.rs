@@ -39,6 +39,25 @@ enum Command {
     /// Draw a PLC program (DL205, OpenNet) as a ladder diagram in SVG, with its power flow
     /// as it stands after --max-ticks scans (before the first scan without it).
     Ladder(LadderArgs),
+    /// Grade a lesson: run PROGRAM (or the lesson's own program) from tick 0 with the
+    /// lesson's settings and edits, then evaluate every check of every step (exit 0 all
+    /// pass, 1 any fails, 2 the program does not assemble or a file cannot be read).
+    Check(CheckArgs),
+}
+
+#[derive(clap::Args)]
+struct CheckArgs {
+    /// The lesson: a session (.ron) with a lesson section.
+    lesson: PathBuf,
+    /// The student's program; without it, the lesson's own program.
+    program: Option<PathBuf>,
+    /// Stop before this tick (scans for a PLC); without it, the lesson's `max_ticks`, else the
+    /// dialect's runner default.
+    #[arg(long)]
+    max_ticks: Option<u64>,
+    /// Print exactly one JSON object on stdout.
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(clap::Args)]
@@ -120,6 +139,13 @@ fn main() -> ExitCode {
         }),
         Some(Command::Ladder(args)) => ExitCode::from(match ladder(&args) {
             Ok(()) => 0,
+            Err(message) => {
+                say(&format!("servoscope: {message}"));
+                2
+            }
+        }),
+        Some(Command::Check(args)) => ExitCode::from(match check(&args) {
+            Ok(code) => code,
             Err(message) => {
                 say(&format!("servoscope: {message}"));
                 2
@@ -413,6 +439,85 @@ fn ladder(args: &LadderArgs) -> Result<(), String> {
     let svg = servoscope::machine::plc::ladder::svg_of(m, &diagram, &title);
     servoscope::atomic::write_atomically(&args.svg, |w| w.write_all(svg.as_bytes()))
         .map_err(|e| format!("cannot write {}: {e}", args.svg.display()))
+}
+
+/// `servoscope check`: run the program as the lesson says and grade it by the lesson's checks.
+fn check(args: &CheckArgs) -> Result<u8, String> {
+    let lesson_name = args.lesson.display().to_string();
+    let session = Session::load(&args.lesson).map_err(|e| e.to_string())?;
+    let Some(lesson) = session.lesson.clone() else {
+        return Err(format!(
+            "{lesson_name} is a session without a lesson section (lesson: Some((title: …, steps: […])))"
+        ));
+    };
+    let dialect = session.dialect();
+    let (name, source) = match &args.program {
+        Some(path) => {
+            if let Some(by_extension) = registry::by_path(path)
+                && by_extension != dialect
+            {
+                return Err(format!(
+                    "{} is a program for {}; the lesson is for {}",
+                    path.display(),
+                    by_extension.display_name,
+                    dialect.display_name
+                ));
+            }
+            let source = servoscope::text::read(path).map_err(|e| e.to_string())?;
+            (path.display().to_string(), source)
+        }
+        None => (session.program_name.clone(), session.program.clone()),
+    };
+    let start = Start {
+        dialect,
+        name: name.clone(),
+        path: args.program.clone(),
+        source,
+        settings: session.settings.clone(),
+        session: None,
+    };
+    let settings = dialect.settings_from(&session.settings);
+    let engine = open_engine(&start, &settings, &name)?;
+    let events = session
+        .user_events(engine.machine(), &lesson_name)
+        .map_err(|e| e.to_string())?;
+    let max_ticks = args
+        .max_ticks
+        .or(lesson.max_ticks)
+        .unwrap_or(dialect.default_max_ticks);
+    let done = runner::run_engine(engine.as_ref(), &events, max_ticks);
+    let report = Report {
+        dialect,
+        machine: done.machine(),
+        broke: None,
+    };
+    let outcomes = servoscope::lesson::evaluate_all(&lesson, done.machine());
+    let unit = if done.machine().ladder().is_some() {
+        "scan(s)"
+    } else {
+        "tick(s)"
+    };
+    let text = if args.json {
+        let run = serde_json::json!({
+            "program": name,
+            "status": report.status(),
+            "ticks": done.machine().ticks(),
+        });
+        servoscope::lesson::report_json(&lesson.title, &outcomes, &run.to_string()) + "\n"
+    } else {
+        let run = format!(
+            "{name}: {} after {} {unit}",
+            report.status(),
+            done.machine().ticks()
+        );
+        servoscope::lesson::report_text(&lesson.title, &outcomes, &run)
+    };
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => Ok(u8::from(outcomes.iter().any(|o| !o.pass))),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(2),
+        Err(e) => Err(format!("cannot write the report to standard output: {e}")),
+    }
 }
 
 /// Diagnostics printed at most; the rest are counted.

@@ -66,6 +66,9 @@ pub struct Session {
     /// so the stop (its fault, flags and message) is restored too. Files from before this
     /// field say so with a fault mark at `furthest`.
     pub stopped: bool,
+    /// A lesson's title and steps (see [`crate::lesson`]); `None` for an ordinary session.
+    /// Format-2 readers before it ignore the field and open the lesson as a session.
+    pub lesson: Option<crate::lesson::Lesson>,
     /// What reading the file dropped and why (breakpoints past the program's last line, marks
     /// past the furthest position): shown to the user, never saved.
     #[serde(skip)]
@@ -81,6 +84,8 @@ pub mod limits {
     pub const EVENTS: usize = 1_000_000;
     /// Characters of one condition, message, watch, channel, location or program name.
     pub const TEXT: usize = 4_096;
+    /// Characters of one lesson step's text.
+    pub const STEP_TEXT: usize = 65_536;
 }
 
 /// One user edit, by location name.
@@ -549,6 +554,18 @@ impl Session {
             ("edits", self.events.len(), limits::EVENTS),
             ("marks", self.marks.len(), limits::EVENTS),
             (
+                "lesson steps",
+                self.lesson.as_ref().map_or(0, |l| l.steps.len()),
+                limits::LIST,
+            ),
+            (
+                "lesson checks",
+                self.lesson
+                    .as_ref()
+                    .map_or(0, |l| l.steps.iter().map(|s| s.checks.len()).sum()),
+                limits::LIST,
+            ),
+            (
                 "plot channels",
                 self.channels.as_ref().map_or(0, Vec::len),
                 crate::debugger::trace::MAX_CHANNELS,
@@ -578,7 +595,24 @@ impl Session {
             )
             .chain(self.events.iter().map(|e| e.location.as_str()))
             .chain(self.view.formats.iter().map(|(name, _)| name.as_str()))
-            .chain(self.view.selected.as_deref());
+            .chain(self.view.selected.as_deref())
+            .chain(self.lesson.iter().flat_map(|l| {
+                std::iter::once(l.title.as_str()).chain(
+                    l.steps
+                        .iter()
+                        .flat_map(|s| s.checks.iter().map(String::as_str)),
+                )
+            }));
+        let step_texts = self.lesson.iter().flat_map(|l| &l.steps).map(|s| &s.text);
+        for text in step_texts {
+            let chars = text.chars().count();
+            if chars > limits::STEP_TEXT {
+                return Err(refuse(format!(
+                    "a lesson step of {chars} characters; at most {} are kept",
+                    limits::STEP_TEXT
+                )));
+            }
+        }
         for text in texts {
             let chars = text.chars().count();
             if chars > limits::TEXT {

@@ -343,6 +343,36 @@ fn comparisons_are_unsigned_16_bit() {
 // ---- The assembler -----------------------------------------------------------------------------
 
 #[test]
+fn every_recognised_instruction_of_spec_6_12_is_named_not_unknown() {
+    for m in [
+        "SR", "MOVW", "FILL", "FIND", "FDGT", "FDGTHS", "TSHFL", "TSHFR", "DRUM", "BCALL",
+    ] {
+        let e = errors(&format!("STR X1\n{m} V2000\nEND\n"));
+        assert_eq!(
+            e.first().map(String::as_str),
+            Some(
+                format!("2:1: error: {m} is a DL205 instruction not supported by servoscope yet")
+                    .as_str()
+            ),
+            "{m}"
+        );
+    }
+}
+
+#[test]
+fn outf_writes_only_y_c_and_s_bits() {
+    // Spec §1: writing X, SP, T or CT bits is an error; §6.2: OUTF's start is Y, C or S.
+    for start in ["T0", "CT0", "X0"] {
+        let e = errors(&format!("STR X1\nLD K5\nOUTF {start} K4\nEND\n"));
+        assert_eq!(
+            e.first().map(String::as_str),
+            Some(format!("3:6: error: {start} cannot be written: OUTF needs Y, C or S").as_str())
+        );
+    }
+    assert!(errors("STR X1\nLD K5\nOUTF S0 K4\nEND\n").is_empty());
+}
+
+#[test]
 fn every_error_class_with_line_and_column() {
     let src = "STR X1\nLDD V1983\nDRUM T0 K10\nOUT X1\nINC V0\nLD K12345\nADDD KA\nSET C5 C2\nLDF X1776 K5\nSTR SP77\nLDD V37777\nDIV K0\nSTR GX0\nSTRR X1\nLD\n";
     let e = errors(src);

@@ -290,12 +290,19 @@ fn every_example_session_is_tested() {
     assert_eq!(
         names,
         [
+            "dl205_bcd_stack_task.ron",
             "dl205_subs_lesson.ron",
+            "dl205_timer_counter_task.ron",
+            "fifo_lifo_task.ron",
             "fifo_queue_lesson.ron",
             "fixed_point_lesson.ron",
             "homing_on_input.ron",
             "opennet_overflow_lesson.ron",
-            "tml_fixed_point_lesson.ron"
+            "opennet_overflow_task.ron",
+            "opennet_timer_counter_task.ron",
+            "q16_scaling_task.ron",
+            "tml_fixed_point_lesson.ron",
+            "tml_product_task.ron"
         ]
     );
 }

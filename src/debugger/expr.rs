@@ -11,7 +11,8 @@
 //!   evaluation is a few array reads. `NAME.N` reads bit N of a word.
 //! - Values are 64-bit signed integers: a location reads as its number (signed locations
 //!   sign-extended, a TML `fixed` as its raw Q16.16 bits), a relay or input as 0 or 1.
-//!   Literals are decimal, `0x` hex or `0b` binary.
+//!   Literals are decimal, `0x` hex or `0b` binary. `bcd(x)` is x's decimal digits as BCD
+//!   (`V2000 == bcd(1250)` holds when V2000 holds 0x1250).
 //! - Operators, loosest first: `||`, `&&`, comparisons `== != < <= > >=`, `|`, `^`, `&`,
 //!   shifts `<< >>`, `+ -`, `* / %`, unary `! - ~`. Comparisons and logic give 0 or 1; a
 //!   value is true when it is not 0. Arithmetic wraps; a division or remainder by 0 gives 0
@@ -84,11 +85,20 @@ impl Op {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Node {
     Const(i64),
-    Read { loc: Loc, width: u8, signed: bool },
-    Bit { loc: Loc, bit: u8 },
+    Read {
+        loc: Loc,
+        width: u8,
+        signed: bool,
+    },
+    Bit {
+        loc: Loc,
+        bit: u8,
+    },
     Not,
     Neg,
     Invert,
+    /// `bcd(x)`: x's decimal digits as BCD nibbles (1250 → 0x1250).
+    Bcd,
     Binary(Op),
 }
 
@@ -172,6 +182,7 @@ impl Expr {
                 Node::Not => stack[top - 1] = i64::from(stack[top - 1] == 0),
                 Node::Neg => stack[top - 1] = stack[top - 1].wrapping_neg(),
                 Node::Invert => stack[top - 1] = !stack[top - 1],
+                Node::Bcd => stack[top - 1] = to_bcd(stack[top - 1]),
                 Node::Binary(op) => {
                     top -= 1;
                     stack[top - 1] = op.apply(stack[top - 1], stack[top]);
@@ -185,6 +196,26 @@ impl Expr {
     #[inline]
     pub fn holds<M: MachineView + ?Sized>(&self, m: &M) -> bool {
         self.eval(m) != 0
+    }
+}
+
+/// `value`'s decimal digits as BCD nibbles: 1250 → 0x1250. A negative value gives the negated
+/// pattern of its magnitude, so `bcd(-5) == -bcd(5)`; digits past the sixteenth are dropped.
+fn to_bcd(value: i64) -> i64 {
+    let mut magnitude = value.unsigned_abs();
+    let mut pattern = 0u64;
+    for nibble in 0..16 {
+        pattern |= (magnitude % 10) << (4 * nibble);
+        magnitude /= 10;
+        if magnitude == 0 {
+            break;
+        }
+    }
+    let pattern = pattern as i64;
+    if value < 0 {
+        pattern.wrapping_neg()
+    } else {
+        pattern
     }
 }
 
@@ -431,6 +462,26 @@ impl Parser<'_> {
                 }
             }
             Tok::Num(v) => self.nodes.push(Node::Const(*v)),
+            Tok::Name(name)
+                if name.eq_ignore_ascii_case("bcd")
+                    && matches!(
+                        self.tokens.get(self.at),
+                        Some(Token {
+                            tok: Tok::Sym("("),
+                            ..
+                        })
+                    ) =>
+            {
+                self.at += 1;
+                self.expr(0)?;
+                match self.tokens.get(self.at) {
+                    Some(Token {
+                        tok: Tok::Sym(")"), ..
+                    }) => self.at += 1,
+                    _ => return self.error("')' is missing after bcd(…"),
+                }
+                self.nodes.push(Node::Bcd);
+            }
             Tok::Name(name) => {
                 let Some((loc, width, signed)) = (self.m)(name) else {
                     // A constant the program names (DEF names are case-sensitive).

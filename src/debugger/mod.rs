@@ -89,6 +89,18 @@ pub struct Debugger {
     chunk_floor: Option<std::time::Duration>,
     /// The search back in progress while the goal is [`Goal::Back`].
     back: Option<run::Back>,
+    /// Edits every new timeline starts with (a lesson's inputs), by location name, so a
+    /// student's edited and re-assembled program meets the same inputs as the lesson's.
+    scripted: Vec<ScriptedEvent>,
+}
+
+/// An edit at a position, by location name, that every restart applies again (a lesson's input
+/// switched on at scan 10). A name the program does not have is skipped.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ScriptedEvent {
+    pub at: Pos,
+    pub location: String,
+    pub change: Change,
 }
 
 /// A plot channel as the user chose it: a location name, a legend and a plot group.
@@ -250,6 +262,7 @@ impl Debugger {
             chunk_ticks: FIRST_CHUNK_TICKS,
             chunk_floor: None,
             back: None,
+            scripted: Vec::new(),
         };
         d.assemble();
         d
@@ -425,6 +438,16 @@ impl Debugger {
         }
     }
 
+    /// Edits every restart applies again (a lesson's inputs); the current timeline is not
+    /// changed until the next restart.
+    pub fn set_scripted_events(&mut self, events: Vec<ScriptedEvent>) {
+        self.scripted = events;
+    }
+
+    pub fn scripted_events(&self) -> &[ScriptedEvent] {
+        &self.scripted
+    }
+
     /// Which timeline this is: it changes whenever a new one starts (restart, assembly, another
     /// program, a session).
     pub fn generation(&self) -> u64 {
@@ -557,7 +580,22 @@ impl Debugger {
     /// (a run's input switches are part of its recorded timeline, not of the next run).
     fn restart(&mut self) {
         let channels = self.resolve_channels(self.engine.machine());
-        self.engine = self.engine.restarted(Vec::new(), channels);
+        let m = self.engine.machine();
+        let events = self
+            .scripted
+            .iter()
+            .filter_map(|e| {
+                let loc = m.find(&e.location)?;
+                // An edit this program's location cannot take is left out, like an unknown name.
+                e.change.check(&m.info(loc)?).ok()?;
+                Some(UserEvent {
+                    at: e.at,
+                    loc,
+                    change: e.change,
+                })
+            })
+            .collect();
+        self.engine = self.engine.restarted(events, channels);
         self.goal = None;
         self.chunk_ticks = FIRST_CHUNK_TICKS;
         self.chunk_floor = None;

@@ -12,8 +12,10 @@
 //! scanned PLC (one tick = one scan) executes many instructions per tick, and a user steps,
 //! steps back and edits between them: `(t, 3)` is "scan t, after its third instruction".
 
+pub mod bits;
 pub mod diagnostics;
 pub mod plc;
+pub mod reference;
 pub mod registry;
 pub mod value;
 

@@ -140,6 +140,12 @@ pub struct Dialect {
     pub examples: &'static [(&'static str, &'static str)],
     /// Lesson sessions shipped in `sessions/`: (file name, text).
     pub lessons: &'static [(&'static str, &'static str)],
+    /// The user's reference, `docs/<dialect>.md`: its `## Instruction reference` section gives
+    /// the hover text and the Help panel of each mnemonic ([`crate::machine::reference`]).
+    pub reference: &'static str,
+    /// Every mnemonic the assembler accepts, in the assembler's own lists (each must have a
+    /// reference entry).
+    pub mnemonics: &'static [&'static [&'static str]],
     pub settings: &'static [SettingInfo],
     pub default_channels: &'static [ChannelSpec],
     /// The runner's `--max-ticks` default.
@@ -163,6 +169,22 @@ pub struct Dialect {
 }
 
 impl Dialect {
+    /// Whether `word` is one of the dialect's mnemonics (case-insensitive).
+    pub fn is_mnemonic(&self, word: &str) -> bool {
+        self.mnemonics
+            .iter()
+            .flat_map(|list| list.iter())
+            .any(|m| m.eq_ignore_ascii_case(word))
+    }
+
+    /// The reference entry of `mnemonic`, if it is one of the dialect's.
+    pub fn reference_entry(&self, mnemonic: &str) -> Option<crate::machine::reference::Entry> {
+        if !self.is_mnemonic(mnemonic) {
+            return None;
+        }
+        crate::machine::reference::entry_for(self.reference, mnemonic)
+    }
+
     /// The settings with every key at its default, overridden by `given` where it has a
     /// value for a known key, each brought into its range (NaN becomes the default).
     pub fn settings_from(&self, given: &Settings) -> Settings {

@@ -155,6 +155,69 @@ pub fn q16_exact(value: i64) -> String {
     format!("{sign}{whole}.{}", digits.trim_end_matches('0'))
 }
 
+/// What a decimal number typed as Q16.16 (`q16(0.00001)`, a TML fixed literal) really stores:
+/// the raw pattern, the value that pattern stands for, and the quantization error.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Quantized {
+    pub raw: i64,
+    /// raw / 65536, every digit.
+    pub stands_for: String,
+    /// stored − typed, every digit, signed (`+0.0000052587890625`).
+    pub error: String,
+    /// The error relative to the typed value, to two decimals (`+52.59 %`); `None` for 0.
+    pub relative: Option<String>,
+}
+
+/// Quantize `text` (a decimal number, optional sign) to Q16.16 as the assemblers do (round
+/// half away from zero, exactly from the digits).
+pub fn quantize_q16(text: &str) -> Result<Quantized, ValueError> {
+    let raw = parse_q16(text)?;
+    let body = text.trim().trim_start_matches(['+', '-']);
+    let negative = text.trim().starts_with('-');
+    let (int_part, frac_part) = body.split_once('.').unwrap_or((body, ""));
+    let digits: String = format!("{int_part}{frac_part}")
+        .chars()
+        .filter(|&c| c != '_')
+        .collect();
+    let frac_len = frac_part.chars().filter(|&c| c != '_').count() as u32;
+    let mantissa: i128 = digits.parse::<i128>().unwrap_or(0) * if negative { -1 } else { 1 };
+    // stored − typed = (raw × 10^k − mantissa × 2^16) / (10^k × 2^16); × 5^16 makes the
+    // denominator 10^(k+16), so the difference is a finite decimal.
+    let scale = 10i128.pow(frac_len);
+    let exact = i128::from(raw)
+        .checked_mul(scale)
+        .and_then(|a| a.checked_sub(mantissa.checked_mul(65536)?))
+        .and_then(|d| d.checked_mul(5i128.pow(16)));
+    let error = match exact {
+        Some(0) => "0".to_string(),
+        Some(num) => {
+            let places = (frac_len + 16) as usize;
+            let digits = format!("{:0>width$}", num.unsigned_abs(), width = places + 1);
+            let (whole, fraction) = digits.split_at(digits.len() - places);
+            let sign = if num < 0 { "-" } else { "+" };
+            let fraction = fraction.trim_end_matches('0');
+            if fraction.is_empty() {
+                format!("{sign}{whole}")
+            } else {
+                format!("{sign}{whole}.{fraction}")
+            }
+        }
+        None => "(too many digits to show)".to_string(),
+    };
+    // A ratio for people to read, not a stored value: floating point is fine here.
+    let typed = mantissa as f64 / scale as f64;
+    let relative = (typed != 0.0).then(|| {
+        let percent = (raw as f64 / 65536.0 - typed) / typed.abs() * 100.0;
+        format!("{percent:+.2} %")
+    });
+    Ok(Quantized {
+        raw,
+        stands_for: q16_exact(raw),
+        error,
+        relative,
+    })
+}
+
 fn chunks_from_right(text: &str, size: usize) -> Vec<String> {
     let chars: Vec<char> = text.chars().collect();
     let first = chars.len() % size;

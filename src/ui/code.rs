@@ -95,6 +95,62 @@ impl CodeView {
     pub fn target_line(&self, debugger: &Debugger) -> Option<usize> {
         self.cursor_line.or_else(|| debugger.machine().pc_line())
     }
+
+    /// The mnemonic F1 opens the reference at: the word at the caret when it is one, else the
+    /// first mnemonic of the caret's line (of the line about to run without a caret).
+    pub fn word_at_caret(&self, debugger: &Debugger) -> Option<String> {
+        let dialect = debugger.dialect();
+        let text = debugger.source();
+        if let Some(m) = self
+            .cursor_char
+            .and_then(|at| mnemonic_in(dialect, &token_at(text, at)))
+        {
+            return Some(m);
+        }
+        let line = text
+            .lines()
+            .nth(self.target_line(debugger)?.checked_sub(1)?)?;
+        line.split_whitespace()
+            .find_map(|token| mnemonic_in(dialect, token))
+    }
+}
+
+/// The whitespace-separated token around character `at`.
+fn token_at(text: &str, at: usize) -> String {
+    let chars: Vec<char> = text.chars().collect();
+    let at = at.min(chars.len());
+    let mut start = at;
+    while start > 0 && !chars[start - 1].is_whitespace() {
+        start -= 1;
+    }
+    let mut end = at;
+    while end < chars.len() && !chars[end].is_whitespace() {
+        end += 1;
+    }
+    chars[start..end].iter().collect()
+}
+
+/// What hovering a mnemonic tells: its reference entry's first paragraph (syntax, effect,
+/// flags), from the dialect's document.
+pub fn mnemonic_hover(dialect: &crate::machine::registry::Dialect, token: &str) -> Option<String> {
+    let mnemonic = mnemonic_in(dialect, token)?;
+    let entry = dialect.reference_entry(&mnemonic)?;
+    Some(format!(
+        "{} — {}\n{}\nF1: the whole entry in the Help panel",
+        entry.names.join(", "),
+        entry.title,
+        entry.summary.replace('`', "")
+    ))
+}
+
+/// `token` as one of `dialect`'s mnemonics: `ADD(W)` is ADD, `WAIT!` is WAIT, `loop:CLC` is CLC.
+pub fn mnemonic_in(dialect: &crate::machine::registry::Dialect, token: &str) -> Option<String> {
+    let token = token.rsplit(':').next().unwrap_or(token);
+    let token = token.split('(').next().unwrap_or(token);
+    let token = token.trim_end_matches([';', '!', ',']);
+    dialect
+        .is_mnemonic(token)
+        .then(|| token.to_ascii_uppercase())
 }
 
 fn color(p: &Palette, kind: TokenClass) -> egui::Color32 {
@@ -383,6 +439,30 @@ pub fn hover_value(m: &dyn crate::machine::MachineView, word: &str) -> Option<St
         return Some(lines.join("\n"));
     }
     let lower = word.to_ascii_lowercase();
+    // A Q16.16 literal, or a TML fixed literal (digits, a point, digits): what it really stores.
+    let fixed_literal = (m.dialect() == "tml"
+        && word.contains('.')
+        && word.chars().all(|c| c.is_ascii_digit() || c == '.'))
+    .then_some(word);
+    let q16_inner = lower
+        .strip_prefix("q16(")
+        .and_then(|r| r.strip_suffix(')'))
+        .map(|inner| &word[4..4 + inner.len()]);
+    if let Some(typed) = q16_inner.or(fixed_literal)
+        && let Ok(q) = crate::machine::value::quantize_q16(typed)
+    {
+        let raw = q.raw as u64 & 0xFFFF_FFFF;
+        let mut lines = vec![
+            format!("{word} stores {} ({})", q.raw, Format::Hex.show(raw, 32)),
+            format!("   binary  {}", Format::Binary.show(raw, 32)),
+            format!("which is {} (= {} / 65536)", q.stands_for, q.raw),
+        ];
+        lines.push(match &q.relative {
+            Some(relative) => format!("quantization error {} ({relative})", q.error),
+            None => format!("quantization error {}", q.error),
+        });
+        return Some(lines.join("\n"));
+    }
     if lower.starts_with("q16(") || lower.starts_with("bcd(") {
         let raw = parse_value(word, 32).ok()?;
         let mut lines = vec![format!("{word} stores")];
@@ -659,7 +739,8 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                         .index
                         .0;
                     let value = word_at(&text, under)
-                        .and_then(|word| hover_value(debugger.machine(), &word));
+                        .and_then(|word| hover_value(debugger.machine(), &word))
+                        .or_else(|| mnemonic_hover(debugger.dialect(), &token_at(&text, under)));
                     let tip: Vec<String> = messages.into_iter().chain(value).collect();
                     if !tip.is_empty() {
                         egui::Response::clone(&output.response).on_hover_ui_at_pointer(|ui| {

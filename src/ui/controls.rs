@@ -1,6 +1,6 @@
 //! Run controls: keyboard shortcuts, the menu bar and the toolbar. All emit [`Command`]s.
 
-use egui::{Key, KeyboardShortcut, Modifiers};
+use egui::{Key, KeyboardShortcut, Modifiers, RichText};
 
 use super::code::CodeView;
 use super::layout::Pane;
@@ -34,6 +34,7 @@ pub const STEP_BACK_INTO: KeyboardShortcut =
 pub const STEP_BACK_OUT: KeyboardShortcut =
     KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::F11);
 pub const TICK_BACK: KeyboardShortcut = KeyboardShortcut::new(Modifiers::SHIFT, Key::F8);
+pub const HELP: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F1);
 
 /// Shortcuts, most specific first (egui ignores extra Shift when matching).
 pub fn shortcuts(
@@ -45,7 +46,8 @@ pub fn shortcuts(
     let target = code.target_line(debugger);
     // Most specific first: egui ignores an extra Shift when matching the plain keys.
     // A command needing the cursor's line is skipped (its key still consumed) without one.
-    let table: [(&KeyboardShortcut, Option<Command>); 18] = [
+    let table: [(&KeyboardShortcut, Option<Command>); 19] = [
+        (&HELP, Some(Command::OpenHelp(code.word_at_caret(debugger)))),
         (&RESET, Some(Command::Reset)),
         (&STEP_BACK_INTO, Some(Command::StepBackCommand)),
         (&STEP_BACK_OUT, Some(Command::StepBackOut)),
@@ -137,28 +139,39 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
                     }
                 }
             });
-            ui.menu_button("Examples", |ui| {
-                for (i, (dialect, name, _)) in registry::examples().enumerate() {
-                    if ui
-                        .button(name)
-                        .on_hover_text(dialect.display_name)
-                        .clicked()
-                    {
-                        out.push(Command::LoadExample(i));
-                    }
-                }
-                ui.separator();
-                ui.label("Lessons (sessions)");
-                for (i, (dialect, name, _)) in registry::lessons().enumerate() {
-                    if ui
-                        .button(name)
-                        .on_hover_text(format!("A saved {} session", dialect.display_name))
-                        .clicked()
-                    {
-                        out.push(Command::LoadLesson(i));
-                    }
+            ui.menu_button("Examples and lessons", |ui| {
+                for d in DIALECTS {
+                    ui.menu_button(d.display_name, |ui| {
+                        ui.label(RichText::new("Examples").weak());
+                        for (i, (dialect, name, _)) in registry::examples().enumerate() {
+                            if dialect.name == d.name && ui.button(name).clicked() {
+                                out.push(Command::LoadExample(i));
+                            }
+                        }
+                        ui.separator();
+                        ui.label(RichText::new("Lessons").weak());
+                        for (i, (dialect, name, _)) in registry::lessons().enumerate() {
+                            if dialect.name == d.name
+                                && ui
+                                    .button(name)
+                                    .on_hover_text("Opens with its program, position and steps")
+                                    .clicked()
+                            {
+                                out.push(Command::LoadLesson(i));
+                            }
+                        }
+                    });
                 }
             });
+            if ui
+                .button("Save as lesson…")
+                .on_hover_text(
+                    "This session as a lesson: write its steps and checks in the Lesson panel",
+                )
+                .clicked()
+            {
+                out.push(Command::SaveAsLesson);
+            }
         });
         ui.menu_button("Debug", |ui| {
             let target = app.code.target_line(&app.debugger);
@@ -229,7 +242,10 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
                 .panel_titles()
                 .into_iter()
                 .map(|t| Pane::Dialect(t.to_string()));
-            for pane in Pane::COMMON.into_iter().chain(dialect_panes) {
+            let extra = [Pane::Help]
+                .into_iter()
+                .chain(app.lesson.is_some().then_some(Pane::Lesson));
+            for pane in Pane::COMMON.into_iter().chain(dialect_panes).chain(extra) {
                 let mut shown = app.layout.contains(&pane);
                 let title = pane.title().to_string();
                 if ui
@@ -252,6 +268,13 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
             }
         });
         ui.menu_button("Help", |ui| {
+            let button =
+                egui::Button::new(format!("{} reference", app.debugger.dialect().display_name))
+                    .shortcut_text(shortcut_text(&ctx, &HELP));
+            if ui.add(button).clicked() {
+                out.push(Command::OpenHelp(None));
+            }
+            ui.separator();
             ui.label("F5 run · F6 pause · F10 step over · F11 step into · Shift+F11 step out");
             ui.label("F8 one tick or scan · F9 breakpoint · Ctrl+F10 run to cursor");
             ui.label("Ctrl+Shift+F5 reset · Ctrl+Enter assemble");

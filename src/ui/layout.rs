@@ -28,6 +28,10 @@ pub enum Pane {
     Log,
     /// A dialect's own panel, by its title (SilverLode's "Queues").
     Dialect(String),
+    /// The open lesson's steps and checks (shown when a lesson opens).
+    Lesson,
+    /// The dialect's instruction reference (F1).
+    Help,
 }
 
 impl Pane {
@@ -59,6 +63,8 @@ impl Pane {
             Pane::Watches => "Watches",
             Pane::Log => "Log",
             Pane::Dialect(title) => title,
+            Pane::Lesson => super::lesson::TITLE,
+            Pane::Help => super::help::TITLE,
         }
     }
 
@@ -72,7 +78,7 @@ impl Pane {
             Pane::Plot => egui::vec2(200.0, 100.0),
             Pane::Timeline => egui::vec2(300.0, 28.0),
             Pane::Breakpoints | Pane::Watches | Pane::Log => egui::vec2(220.0, 60.0),
-            Pane::Dialect(_) => egui::vec2(160.0, 80.0),
+            Pane::Dialect(_) | Pane::Lesson | Pane::Help => egui::vec2(160.0, 80.0),
         }
     }
 }
@@ -643,6 +649,8 @@ pub struct Panes<'a> {
     pub breakpoints: &'a mut breakpoints::BreakpointsView,
     pub watches: &'a mut watches::WatchesView,
     pub log: &'a mut log::LogView,
+    pub lesson: Option<&'a mut super::lesson::LessonView>,
+    pub help: &'a mut super::help::HelpView,
     pub dialect_panels: &'a mut [Box<dyn DialectPanel>],
     pub out: &'a mut Vec<Command>,
     /// Where closed panels stood ([`Layout::places`]).
@@ -671,6 +679,8 @@ impl Behavior<Pane> for Panes<'_> {
             Pane::Breakpoints => breakpoints::show(ui, debugger, self.breakpoints, self.out),
             Pane::Watches => watches::show(ui, debugger, self.watches, self.out),
             Pane::Log => log::show(ui, debugger, self.log, self.out),
+            Pane::Lesson => super::lesson::show(ui, debugger, self.lesson.as_deref_mut(), self.out),
+            Pane::Help => super::help::show(ui, debugger, self.help),
             Pane::Dialect(title) => {
                 let height = ui.available_height();
                 match self.dialect_panels.iter_mut().find(|p| p.title() == title) {

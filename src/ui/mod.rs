@@ -2,15 +2,18 @@
 //! returns what the user asked for as [`Command`]s; [`ServoscopeApp::apply`] carries them out.
 //! No run logic lives here: it is all in `debugger` and `machine`.
 
+pub mod bitrows;
 pub mod breakpoints;
 pub mod code;
 pub mod code_rows;
 pub mod controls;
 pub mod files;
 pub mod frames;
+pub mod help;
 pub mod io_board;
 pub mod ladder;
 pub mod layout;
+pub mod lesson;
 pub mod loading;
 pub mod log;
 pub mod panels;
@@ -124,6 +127,17 @@ pub enum Command {
     FocusPane(layout::Pane),
     ExportLadderDialog,
     ExportLadder(PathBuf),
+    /// F1 / Help → Reference: the Help panel at this mnemonic's entry (the whole reference
+    /// without one).
+    OpenHelp(Option<String>),
+    /// Show this step of the open lesson (from 0).
+    LessonStep(usize),
+    /// Evaluate the shown step's checks on the present state.
+    LessonCheck,
+    /// Back to the lesson's program and position.
+    LessonReset,
+    /// File → Save as lesson: this session becomes a lesson to write, then to save.
+    SaveAsLesson,
 }
 
 /// Preferences kept between runs by eframe's storage (never the program state).
@@ -196,6 +210,11 @@ pub struct ServoscopeApp {
     pub log: log::LogView,
     pub settings: settings::SettingsView,
     pub files: files::Files,
+    /// The open lesson, if the session is one.
+    pub lesson: Option<lesson::LessonView>,
+    /// The lesson as last saved or loaded: differences are unsaved changes.
+    saved_lesson: Option<crate::lesson::Lesson>,
+    pub help: help::HelpView,
     pub layout: layout::Layout,
     /// The current dialect's own panels, and the dialect they were made for.
     panels: Vec<Box<dyn DialectPanel>>,
@@ -220,6 +239,7 @@ pub struct ServoscopeApp {
     overhead: Duration,
     last_slice: Duration,
     theme_applied: Option<bool>,
+    fonts_installed: bool,
 }
 
 impl ServoscopeApp {
@@ -268,6 +288,9 @@ impl ServoscopeApp {
             log: log::LogView::default(),
             settings: settings::SettingsView::default(),
             files: files::Files::default(),
+            lesson: None,
+            saved_lesson: None,
+            help: help::HelpView::default(),
             layout,
             panels,
             focus_panel_pending: true,
@@ -285,6 +308,7 @@ impl ServoscopeApp {
             overhead: Duration::from_millis(8),
             last_slice: Duration::ZERO,
             theme_applied: None,
+            fonts_installed: false,
         };
         app.mark_saved();
         app
@@ -352,7 +376,10 @@ impl ServoscopeApp {
 
     /// The current debugging moment as a session.
     pub fn session(&self) -> Session {
-        Session::capture(&self.debugger, self.path.clone(), self.view_settings())
+        Session {
+            lesson: self.lesson.as_ref().map(|l| l.lesson.clone()),
+            ..Session::capture(&self.debugger, self.path.clone(), self.view_settings())
+        }
     }
 
     fn mark_saved(&mut self) {
@@ -362,6 +389,7 @@ impl ServoscopeApp {
             self.view_settings(),
         );
         self.saved_program = self.debugger.source().to_string();
+        self.saved_lesson = self.lesson.as_ref().map(|l| l.lesson.clone());
     }
 
     /// Changes since the session was last saved or loaded (edits, breakpoints, the tick, ...).
@@ -369,6 +397,7 @@ impl ServoscopeApp {
     pub fn is_dirty(&self) -> bool {
         // The session holds the text as typed, assembled or not: compare that.
         self.debugger.source() != self.saved_program
+            || self.lesson.as_ref().map(|l| &l.lesson) != self.saved_lesson.as_ref()
             || Session::capture_without_program(
                 &self.debugger,
                 self.path.clone(),
@@ -513,6 +542,7 @@ impl ServoscopeApp {
 
     /// Start over on a program given as text in `dialect`.
     pub fn load_program_as(&mut self, dialect: &'static Dialect, name: &str, text: &str) {
+        self.set_lesson(None);
         self.debugger.load_as(dialect, name, text);
         self.file_text = Some(self.debugger.source().to_string());
         self.path = None;
@@ -531,6 +561,11 @@ impl ServoscopeApp {
             None => registry::choose(path, None).map_err(|e| e.to_string())?,
         };
         let text = crate::text::read(path).map_err(|e| format!("Cannot open the program: {e}"))?;
+        // A student opening an answer keeps the lesson open: its checks apply to any program
+        // of its dialect.
+        if self.debugger.dialect() != dialect {
+            self.set_lesson(None);
+        }
         self.debugger.load_as(dialect, files::file_name(path), text);
         self.file_text = Some(self.debugger.source().to_string());
         self.path = Some(path.to_path_buf());
@@ -574,12 +609,71 @@ impl ServoscopeApp {
         self.session_path = Some(path.to_path_buf());
         self.fresh_views();
         self.apply_view_settings(&session.view);
+        // After the dialect's panels are in place, so the lesson's tab is the one in front.
+        self.set_lesson(
+            session
+                .lesson
+                .clone()
+                .map(|l| lesson::LessonView::new(l, Some(session.clone()))),
+        );
         if !session.warnings.is_empty() {
             self.notice = Some(format!(
                 "Opened {}, but {}",
                 path.display(),
                 session.warnings.join("; ")
             ));
+        }
+    }
+
+    /// Open (or close, with `None`) a lesson: its panel comes forward beside the bits, where
+    /// the registers stay in view.
+    fn set_lesson(&mut self, lesson: Option<lesson::LessonView>) {
+        let open = lesson.is_some();
+        // The lesson's inputs meet every program the student assembles while it is open.
+        let scripted = lesson
+            .as_ref()
+            .and_then(|l| l.start.as_ref())
+            .map(|s| {
+                s.events
+                    .iter()
+                    .map(|e| crate::debugger::ScriptedEvent {
+                        at: e.at,
+                        location: e.location.clone(),
+                        change: e.change,
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        self.debugger.set_scripted_events(scripted);
+        self.lesson = lesson;
+        if open {
+            self.layout
+                .add_beside(layout::Pane::Lesson, &layout::Pane::Bits);
+            self.layout.focus(&layout::Pane::Lesson);
+        } else if self.layout.contains(&layout::Pane::Lesson) {
+            self.layout.set_shown(&layout::Pane::Lesson, false);
+        }
+    }
+
+    /// Reset lesson: the lesson's program, position and edits as it opened, its steps kept as
+    /// they are now (a teacher's edits are not thrown away), at the step shown.
+    fn reset_lesson(&mut self) {
+        let Some(start) = self.lesson.as_ref().and_then(|l| l.start.clone()) else {
+            return;
+        };
+        let name = start.program_name.clone();
+        match start.restore(&name) {
+            Ok(debugger) => {
+                let kept = self.lesson.take();
+                let session_path = self.session_path.clone();
+                self.install_session(Path::new(&name), &start, debugger);
+                self.session_path = session_path;
+                if let Some(mut kept) = kept {
+                    kept.checked = None;
+                    self.set_lesson(Some(kept));
+                }
+            }
+            Err(e) => self.notice = Some(format!("Cannot reset the lesson: {e}")),
         }
     }
 
@@ -838,6 +932,48 @@ impl ServoscopeApp {
             }
             Command::ExportLadderDialog => self.files.export_ladder.start(ctx),
             Command::ExportLadder(path) => self.export_ladder(&path),
+            Command::OpenHelp(mnemonic) => {
+                self.help.open_at(mnemonic.as_deref());
+                self.layout
+                    .add_beside(layout::Pane::Help, &layout::Pane::Bits);
+                self.layout.focus(&layout::Pane::Help);
+            }
+            Command::LessonStep(step) => {
+                if let Some(l) = &mut self.lesson {
+                    l.go_to(step);
+                }
+            }
+            Command::LessonCheck => {
+                if let Some(l) = &mut self.lesson {
+                    l.check(&self.debugger);
+                }
+            }
+            Command::LessonReset => self.reset_lesson(),
+            Command::SaveAsLesson => {
+                if self.lesson.is_none() {
+                    let title = self.debugger.name().to_string();
+                    let start = self.session();
+                    let mut view = lesson::LessonView::new(
+                        crate::lesson::Lesson {
+                            title,
+                            steps: vec![crate::lesson::LessonStep {
+                                text: "# The task\n\nWrite here what the student should do."
+                                    .to_string(),
+                                checks: Vec::new(),
+                            }],
+                            // A PLC is graded after as many scans as the teacher ran (the
+                            // runner's default is one scan); other programs run to their end.
+                            max_ticks: (self.debugger.machine().ladder().is_some()
+                                && self.debugger.pos().tick > 1)
+                                .then(|| self.debugger.pos().tick),
+                        },
+                        Some(start),
+                    );
+                    view.editing = true;
+                    self.set_lesson(Some(view));
+                }
+                self.files.save.start(ctx);
+            }
             Command::ExportLogDialog => self.files.export_log.start(ctx),
             Command::ExportLog(path) => {
                 let rows = self.log.log.rows.len();
@@ -870,6 +1006,14 @@ impl ServoscopeApp {
 
     /// One frame: keys, the run slice, then every panel. Usable without eframe (tests).
     pub fn show(&mut self, ui: &mut egui::Ui) {
+        if !self.fonts_installed {
+            // Fonts change from the next pass on: this one is thrown away unseen.
+            theme::install_fonts(ui.ctx());
+            self.fonts_installed = true;
+            ui.ctx().request_discard("the fonts were installed");
+            ui.ctx().request_repaint();
+            return;
+        }
         let ctx = ui.ctx().clone();
         if self.theme_applied != Some(self.prefs.dark) {
             theme::apply(&ctx, self.prefs.dark);
@@ -943,7 +1087,9 @@ impl ServoscopeApp {
             }
             // A program just opened: bring forward the panel that suits it best (the last
             // registered that asks).
+            // An open lesson keeps its tab in front: it is what the student reads first.
             if std::mem::take(&mut self.focus_panel_pending)
+                && self.lesson.is_none()
                 && let Some(panel) = self
                     .panels
                     .iter()
@@ -967,6 +1113,8 @@ impl ServoscopeApp {
                 breakpoints: &mut self.breakpoints,
                 watches: &mut self.watches,
                 log: &mut self.log,
+                lesson: self.lesson.as_mut(),
+                help: &mut self.help,
                 dialect_panels: &mut self.panels,
                 out: &mut commands,
                 places: &mut self.layout.places,

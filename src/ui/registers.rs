@@ -352,7 +352,9 @@ fn bit_grid(
     let words = u32::from(width).div_ceil(16);
     // A fixed 16.16 (its dialect reads it as Q16.16): the binary point sits between bits 16
     // and 15, i.e. between the two rows.
-    let fixed_point = info.format == Some(Format::Q16) && width == 32;
+    // A SilverLode register read as Q16.16 too.
+    let fixed_point = (info.format == Some(Format::Q16) || format == Format::Q16) && width == 32;
+    let bcd = format == Format::Bcd;
     // One row per 16-bit word, the most significant first.
     for word in (0..words).rev() {
         let low = word * 16;
@@ -399,7 +401,10 @@ fn bit_grid(
                 let name = info.bits.iter().find(|b| u32::from(b.bit) == bit);
                 let tip = match name {
                     Some(b) => format!("bit {bit} {} = {} — click to flip", b.name, u8::from(on)),
-                    None => format!("bit {bit} = {} — click to flip", u8::from(on)),
+                    None => format!(
+                        "{} — click to flip",
+                        super::bitrows::bit_tooltip(bit as u8, on, fixed_point.then_some(16))
+                    ),
                 };
                 if resp.on_hover_text(tip).clicked() {
                     out.push(Command::ToggleBit(loc, bit as u8));
@@ -410,6 +415,59 @@ fn bit_grid(
                 }
             }
         });
+        // Under the bits, tight against them: their numbers (every fourth), or a BCD word's
+        // digits centred under their nibbles.
+        ui.add_space(-ui.spacing().item_spacing.y);
+        let strip_width = 64.0 + 16.0 * cell.x + 3.0 * nibble_gap;
+        let (strip, _) = ui.allocate_exact_size(vec2(strip_width, 9.0), egui::Sense::hover());
+        let painter = ui.painter_at(strip);
+        let small = egui::FontId::monospace(8.5);
+        if bcd {
+            painter.text(
+                egui::pos2(strip.left(), strip.center().y),
+                egui::Align2::LEFT_CENTER,
+                "BCD digits",
+                small.clone(),
+                p.dim,
+            );
+        }
+        let mut x = strip.left() + 64.0;
+        for bit in (low..=high).rev() {
+            let (text, colour, at) = if bcd {
+                let digit = raw >> (bit / 4 * 4) & 0xF;
+                let colour = if digit <= 9 { p.written } else { p.error };
+                (
+                    (bit % 4 == 2).then(|| format!("{digit:X}")),
+                    colour,
+                    x + cell.x,
+                )
+            } else {
+                (
+                    (bit % 4 == 0 || bit == high).then(|| bit.to_string()),
+                    p.dim,
+                    x + cell.x / 2.0,
+                )
+            };
+            if let Some(text) = text {
+                painter.text(
+                    egui::pos2(at, strip.center().y),
+                    egui::Align2::CENTER_CENTER,
+                    text,
+                    small.clone(),
+                    colour,
+                );
+            }
+            x += cell.x;
+            if bit % 4 == 0 && bit != low {
+                x += nibble_gap;
+            }
+        }
+    }
+    if bcd && !value::is_bcd(raw) {
+        ui.label(
+            RichText::new("A nibble above 9 (red) is not a BCD digit: this is not a BCD number")
+                .color(p.error),
+        );
     }
     egui::Grid::new("bit_readouts")
         .num_columns(4)

@@ -13,6 +13,48 @@ pub fn apply(ctx: &egui::Context, dark: bool) {
     ctx.all_styles_mut(|style| style.spacing.scroll = egui::style::ScrollStyle::solid());
 }
 
+/// egui's fonts with DejaVu Sans (and Sans Mono) last in each family: the look stays egui's,
+/// and the signs its fonts lack (→ ≤ ✓ ✗ ◀, used by lessons and the reference) are drawn
+/// instead of empty boxes.
+pub fn install_fonts(ctx: &egui::Context) {
+    let mut fonts = egui::FontDefinitions::default();
+    let fallbacks = [
+        (
+            "DejaVuSans",
+            dejavu::sans::regular(),
+            egui::FontFamily::Proportional,
+        ),
+        (
+            "DejaVuSansMono",
+            dejavu::sans_mono::regular(),
+            egui::FontFamily::Monospace,
+        ),
+    ];
+    for (name, bytes, family) in fallbacks {
+        fonts.font_data.insert(
+            name.to_owned(),
+            std::sync::Arc::new(egui::FontData::from_static(bytes)),
+        );
+        fonts
+            .families
+            .entry(family)
+            .or_default()
+            .push(name.to_owned());
+    }
+    // The proportional text falls back on the mono one's signs too, and the reverse.
+    for (family, other) in [
+        (egui::FontFamily::Proportional, "DejaVuSansMono"),
+        (egui::FontFamily::Monospace, "DejaVuSans"),
+    ] {
+        fonts
+            .families
+            .entry(family)
+            .or_default()
+            .push(other.to_owned());
+    }
+    ctx.set_fonts(fonts);
+}
+
 /// Colours that depend on the theme.
 #[derive(Clone, Copy)]
 pub struct Palette {

@@ -278,6 +278,8 @@ pub static SCANNED: Dialect = Dialect {
     },
     examples: &[],
     lessons: &[],
+    reference: "",
+    mnemonics: &[],
     settings: &[],
     default_channels: &[],
     default_max_ticks: 1,

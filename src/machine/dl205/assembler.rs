@@ -22,7 +22,8 @@ pub const MNEMONICS: &[&str] = &[
 ];
 
 pub const UNSUPPORTED: &[&str] = &[
-    "DRUM", "EDRUM", "MDRMD", "MDRMW", "OROUTN", "STRI", "STRNI",
+    "DRUM", "EDRUM", "MDRMD", "MDRMW", "SR", "OROUTN", "MOVW", "FILL", "FIND", "FDGT", "FDGTHS",
+    "TSHFL", "TSHFR", "STRI", "STRNI",
     "ANDI", "ANDNI", "ORI", "ORNI", "OUTI", "SETI", "RSTI", "LDI", "LDIF", "OUTIF",
     "CMPS", "CMPR", "CMPF", "ENCO", "DECO", "SUM", "LDX", "LDSX", "OUTX", "OUTL", "LDR",
     "ADDR", "SUBR", "MULR", "DIVR", "ADDF", "SUBF", "MULF", "DIVF", "ANDF", "ORF", "XORF", "SQRTR",
@@ -598,8 +599,9 @@ fn instruction(ts: &[Tok], program: &mut Program, suggester: &Suggester) -> Resu
                 "LDF" | "OUTF" => {
                     let e = bit(t, program)?;
                     let n = count(&args[1])?;
-                    if m == "OUTF" && matches!(e.kind, Kind::X | Kind::Sp) {
-                        return err(t.col, format!("{} cannot be written: OUTF needs Y or C", t.text));
+                    // Spec §6.2: OUTF writes Y, C or S; X, SP, T and CT bits are not the program's.
+                    if m == "OUTF" && matches!(e.kind, Kind::X | Kind::Sp | Kind::T | Kind::Ct) {
+                        return err(t.col, format!("{} cannot be written: OUTF needs Y, C or S", t.text));
                     }
                     if e.kind == Kind::Sp {
                         // Every relay in the range must be modelled.

@@ -47,10 +47,22 @@ pub static DIALECT: Dialect = Dialect {
             include_str!("../../../assets/examples/batch_mixer.dl205"),
         ),
     ],
-    lessons: &[(
-        "dl205_subs_lesson.ron",
-        include_str!("../../../sessions/dl205_subs_lesson.ron"),
-    )],
+    lessons: &[
+        (
+            "dl205_bcd_stack_task.ron",
+            include_str!("../../../sessions/dl205_bcd_stack_task.ron"),
+        ),
+        (
+            "dl205_subs_lesson.ron",
+            include_str!("../../../sessions/dl205_subs_lesson.ron"),
+        ),
+        (
+            "dl205_timer_counter_task.ron",
+            include_str!("../../../sessions/dl205_timer_counter_task.ron"),
+        ),
+    ],
+    reference: include_str!("../../../docs/dl205.md"),
+    mnemonics: &[super::assembler::MNEMONICS],
     settings: &[crate::machine::plc::SCAN_MS],
     default_channels: &[ChannelSpec {
         location: "ACC",

@@ -56,10 +56,22 @@ pub static DIALECT: Dialect = Dialect {
             include_str!("../../../assets/examples/alarm.opennet"),
         ),
     ],
-    lessons: &[(
-        "opennet_overflow_lesson.ron",
-        include_str!("../../../sessions/opennet_overflow_lesson.ron"),
-    )],
+    lessons: &[
+        (
+            "opennet_overflow_lesson.ron",
+            include_str!("../../../sessions/opennet_overflow_lesson.ron"),
+        ),
+        (
+            "opennet_overflow_task.ron",
+            include_str!("../../../sessions/opennet_overflow_task.ron"),
+        ),
+        (
+            "opennet_timer_counter_task.ron",
+            include_str!("../../../sessions/opennet_timer_counter_task.ron"),
+        ),
+    ],
+    reference: include_str!("../../../docs/opennet.md"),
+    mnemonics: &[super::assembler::BASIC, super::assembler::ADVANCED],
     settings: &[crate::machine::plc::SCAN_MS],
     default_channels: &[ChannelSpec {
         location: "D0",

@@ -45,6 +45,10 @@ pub static DIALECT: Dialect = Dialect {
     ],
     lessons: &[
         (
+            "fifo_lifo_task.ron",
+            include_str!("../../../sessions/fifo_lifo_task.ron"),
+        ),
+        (
             "fifo_queue_lesson.ron",
             include_str!("../../../sessions/fifo_queue_lesson.ron"),
         ),
@@ -56,7 +60,13 @@ pub static DIALECT: Dialect = Dialect {
             "homing_on_input.ron",
             include_str!("../../../sessions/homing_on_input.ron"),
         ),
+        (
+            "q16_scaling_task.ron",
+            include_str!("../../../sessions/q16_scaling_task.ron"),
+        ),
     ],
+    reference: include_str!("../../../docs/silverlode.md"),
+    mnemonics: &[super::assembler::MNEMONICS],
     settings: &[
         SettingInfo {
             key: "natural_frequency_hz",

@@ -16,6 +16,7 @@
 //! - The index input is not simulated: ISW bit 0 and R2 change only when a program writes them.
 //! - The holding-error limit defaults to 2000 counts, like the moving-error limit.
 
+pub mod arith;
 pub mod assembler;
 pub mod dialect;
 mod exec;
@@ -25,6 +26,9 @@ pub mod program;
 /// The one file of this folder that draws (egui), built only with the window.
 #[cfg(feature = "gui")]
 pub mod queues_panel;
+/// The Product panel, likewise.
+#[cfg(feature = "gui")]
+pub mod product_panel;
 pub mod syntax;
 pub mod view;
 

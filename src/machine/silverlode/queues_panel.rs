@@ -15,8 +15,48 @@ use crate::ui::Command;
 use crate::ui::panels::DialectPanel;
 use crate::ui::theme::{Palette, palette};
 
-/// The queue rings, registered by SilverLode's dialect entry.
-pub struct QueuePanel;
+/// The queues, registered by SilverLode's dialect entry; each drawn as the program uses it
+/// (a ring for a FIFO, a column for a stack) unless the user chose.
+#[derive(Default)]
+pub struct QueuePanel {
+    /// Drawings the user chose, by queue base.
+    chosen: std::collections::BTreeMap<usize, Drawing>,
+}
+
+/// How a queue is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Drawing {
+    Ring,
+    /// A column, the top (the end pushed and popped) marked.
+    Stack { top_at_head: bool },
+}
+
+/// How the program uses the queue at `base`: pushed and popped at the same end only, it is a
+/// stack (spec §5.3: Push Head + Pop Head is a LIFO); anything else is drawn as the ring.
+pub fn usage(program: &super::Program, base: usize) -> Drawing {
+    use super::program::{ExtOp, Instr};
+    let (mut push_head, mut push_tail, mut pop_head, mut pop_tail) = (false, false, false, false);
+    for instr in &program.instrs {
+        let (Instr::Cld { op, reg1, .. } | Instr::Clx { op, reg1, .. }) = *instr else {
+            continue;
+        };
+        if usize::from(reg1) != base {
+            continue;
+        }
+        match op {
+            ExtOp::QPushHead | ExtOp::QPushHeadErr => push_head = true,
+            ExtOp::QPushTail | ExtOp::QPushTailErr => push_tail = true,
+            ExtOp::QPopHead | ExtOp::QPopHeadErr => pop_head = true,
+            ExtOp::QPopTail | ExtOp::QPopTailErr => pop_tail = true,
+            _ => {}
+        }
+    }
+    match (push_head, push_tail, pop_head, pop_tail) {
+        (true, false, true, false) => Drawing::Stack { top_at_head: true },
+        (false, true, false, true) => Drawing::Stack { top_at_head: false },
+        _ => Drawing::Ring,
+    }
+}
 
 impl DialectPanel for QueuePanel {
     fn title(&self) -> &'static str {
@@ -28,19 +68,27 @@ impl DialectPanel for QueuePanel {
             .is_some_and(|m| !m.queues().is_empty())
     }
     fn show(&mut self, ui: &mut egui::Ui, debugger: &Debugger, height: f32, _: &mut Vec<Command>) {
-        show(ui, debugger, height);
+        show(ui, debugger, height, &mut self.chosen);
     }
 }
 
 /// SilverLode's panels, for the registry.
 pub fn panels() -> Vec<Box<dyn DialectPanel>> {
-    vec![Box::new(QueuePanel)]
+    vec![
+        Box::new(QueuePanel::default()),
+        Box::new(super::product_panel::ProductPanel::default()),
+    ]
 }
 
 /// Largest queue drawn as a ring; bigger ones become a grid.
 pub const MAX_RING_SLOTS: usize = 12;
 
-pub fn show(ui: &mut egui::Ui, debugger: &Debugger, height: f32) {
+pub fn show(
+    ui: &mut egui::Ui,
+    debugger: &Debugger,
+    height: f32,
+    chosen: &mut std::collections::BTreeMap<usize, Drawing>,
+) {
     let p = palette(ui.visuals().dark_mode);
     let Some(machine) = debugger.machine_as::<SilverLode>() else {
         return;
@@ -71,10 +119,149 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, height: f32) {
         .show(ui, |ui| {
             for q in &queues {
                 let touched = access.as_ref().filter(|a| a.base == q.base);
-                queue(ui, q, touched, &p, ring_room);
+                let by_use = usage(machine.program(), q.base);
+                let drawing = chosen.get(&q.base).copied().unwrap_or(by_use);
+                let mut switched = None;
+                let mut switch = |ui: &mut egui::Ui| {
+                    switched = drawing_switch(ui, drawing, by_use);
+                };
+                match (drawing, &q.header) {
+                    (Drawing::Stack { top_at_head }, Some(h)) => {
+                        let name = format!("Queue R{}", q.base);
+                        stack(ui, &name, h, touched, top_at_head, &p, &mut switch);
+                        header_words(ui, q, &p);
+                    }
+                    _ => queue(ui, q, touched, &p, ring_room, &mut switch),
+                }
+                if let Some(new) = switched {
+                    chosen.insert(q.base, new);
+                }
                 ui.separator();
             }
         });
+}
+
+/// "as ring | as stack": the user's choice over the drawing the program's use suggests.
+fn drawing_switch(ui: &mut egui::Ui, now: Drawing, by_use: Drawing) -> Option<Drawing> {
+    let mut chosen = None;
+    ui.scope(|ui| {
+        let ring = ui
+            .selectable_label(now == Drawing::Ring, "as ring")
+            .on_hover_text(if now == by_use {
+                "A FIFO: the slots in a circle with the head and tail pointers (as the program uses it)"
+            } else {
+                "A FIFO: the slots in a circle with the head and tail pointers"
+            });
+        if ring.clicked() {
+            chosen = Some(Drawing::Ring);
+        }
+        // A stack's top is the end the program pushes and pops; the head when it does not say.
+        let as_stack = match by_use {
+            Drawing::Stack { .. } => by_use,
+            Drawing::Ring => Drawing::Stack { top_at_head: true },
+        };
+        let stack = ui
+            .selectable_label(matches!(now, Drawing::Stack { .. }), "as stack")
+            .on_hover_text("A LIFO: the values in a column, the top (next pop) first");
+        if stack.clicked() {
+            chosen = Some(as_stack);
+        }
+    });
+    chosen
+}
+
+/// A queue used as a stack: a column with the top (the newest value, the next pop) first, the
+/// free slots above it, each value with its register.
+fn stack(
+    ui: &mut egui::Ui,
+    name: &str,
+    h: &QueueHeader,
+    access: Option<&QueueAccess>,
+    top_at_head: bool,
+    p: &Palette,
+    switch: &mut dyn FnMut(&mut egui::Ui),
+) {
+    let end = if top_at_head { "head" } else { "tail" };
+    ui.horizontal_wrapped(|ui| {
+        ui.strong(format!("{name} as a stack"));
+        let state = if h.len == h.size {
+            " FULL"
+        } else if h.len == 0 {
+            " EMPTY"
+        } else {
+            ""
+        };
+        ui.label(format!("{} / {} used{state}", h.len, h.size));
+        ui.label(RichText::new(format!("top at the {end}")).color(p.dim));
+        switch(ui);
+    });
+    if let Some(a) = access {
+        let text = if a.ok {
+            format!("last: {}", a.action)
+        } else {
+            format!("last: {} FAILED ({})", a.action, a.failure.unwrap_or("error"))
+        };
+        ui.label(RichText::new(text).color(if a.ok { p.written } else { p.error }));
+    }
+    // Items run tail (oldest) to head (newest); the top is the newest end when pushing at the
+    // head, the tail end otherwise.
+    let mut order: Vec<usize> = (0..h.len).map(|i| (h.tail + i) % h.size).collect();
+    if top_at_head {
+        order.reverse();
+    }
+    let cell = vec2(110.0, 20.0);
+    let free = h.size - h.len;
+    let font = FontId::monospace(12.0);
+    for row in 0..h.size {
+        let (rect, _) = ui.allocate_exact_size(vec2(cell.x + 120.0, cell.y), Sense::hover());
+        let slot_rect = Rect::from_min_size(rect.min, cell - vec2(0.0, 2.0));
+        let painter = ui.painter();
+        if row < free {
+            painter.rect_stroke(
+                slot_rect,
+                2.0,
+                Stroke::new(1.0, p.bit_off),
+                egui::StrokeKind::Inside,
+            );
+            painter.text(slot_rect.center(), Align2::CENTER_CENTER, "free", font.clone(), p.dim);
+            continue;
+        }
+        let depth = row - free;
+        let slot = order[depth];
+        let value = h.slots[slot];
+        let (fill, text) = slot_colours(h, slot, p);
+        painter.rect_filled(slot_rect, 2.0, fill);
+        painter.text(
+            slot_rect.center(),
+            Align2::CENTER_CENTER,
+            value.to_string(),
+            font.clone(),
+            text,
+        );
+        let register = h.first_slot_register + slot;
+        let note = if depth == 0 {
+            format!("R{register}  ◀ top (next pop)")
+        } else {
+            format!("R{register}")
+        };
+        painter.text(
+            pos2(slot_rect.right() + 6.0, slot_rect.center().y),
+            Align2::LEFT_CENTER,
+            &note,
+            FontId::proportional(12.0),
+            if depth == 0 { p.written } else { p.dim },
+        );
+        accessible(
+            ui,
+            slot_rect,
+            (name, "stack", depth),
+            format!("{name} stack depth {depth}: {value}"),
+            format!("depth {depth} from the top: {}", slot_tooltip(h, slot)),
+        );
+    }
+    if h.len == 0 {
+        ui.label(RichText::new(format!("empty: a pop at the {end} fails")).color(p.dim));
+    }
 }
 
 /// The title, the queue's two text lines and its header words: what the ring leaves room for.
@@ -86,6 +273,7 @@ fn queue(
     access: Option<&QueueAccess>,
     p: &Palette,
     ring_room: f32,
+    switch: &mut dyn FnMut(&mut egui::Ui),
 ) {
     let name = format!("Queue R{}", q.base);
     let Some(h) = &q.header else {
@@ -103,7 +291,7 @@ fn queue(
         header_words(ui, q, p);
         return;
     };
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         ui.strong(&name);
         let state = if h.len == h.size {
             " FULL"
@@ -121,6 +309,7 @@ fn queue(
             ))
             .color(p.dim),
         );
+        switch(ui);
     });
     if let Some(a) = access {
         let text = match (a.ok, a.slot) {

@@ -36,10 +36,18 @@ pub static DIALECT: Dialect = Dialect {
             include_str!("../../../assets/examples/wait_input.tml"),
         ),
     ],
-    lessons: &[(
-        "tml_fixed_point_lesson.ron",
-        include_str!("../../../sessions/tml_fixed_point_lesson.ron"),
-    )],
+    lessons: &[
+        (
+            "tml_fixed_point_lesson.ron",
+            include_str!("../../../sessions/tml_fixed_point_lesson.ron"),
+        ),
+        (
+            "tml_product_task.ron",
+            include_str!("../../../sessions/tml_product_task.ron"),
+        ),
+    ],
+    reference: include_str!("../../../docs/tml.md"),
+    mnemonics: &[super::assembler::MNEMONICS],
     settings: &[],
     default_channels: &[
         ChannelSpec {

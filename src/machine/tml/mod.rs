@@ -16,6 +16,7 @@ pub mod assembler;
 pub mod dialect;
 mod exec;
 mod explain;
+pub mod arith;
 mod motion;
 pub mod program;
 #[cfg(feature = "gui")]

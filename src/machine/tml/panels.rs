@@ -25,7 +25,14 @@ impl DialectPanel for ProductPanel {
     fn has_content(&self, debugger: &Debugger) -> bool {
         debugger
             .machine_as::<Tml>()
-            .is_some_and(|m| m.program.uses_preg || m.last_multiply.is_some())
+            .is_some_and(|m| {
+                m.program.uses_preg
+                    || m.last_multiply.is_some()
+                    || m.program
+                        .stmts
+                        .iter()
+                        .any(|s| matches!(s.op, super::program::Op::Divide(..)))
+            })
     }
     fn show(&mut self, ui: &mut egui::Ui, debugger: &Debugger, _: f32, _: &mut Vec<Command>) {
         if let Some(m) = debugger.machine_as::<Tml>() {
@@ -98,48 +105,15 @@ fn product(ui: &mut egui::Ui, m: &Tml) {
     )
     .on_hover_text("A fixed × int product is 32.16: PRODH is its integer part, PROD's low half its fraction.");
     ui.separator();
-    match m.last_multiply {
+    if let Some(division) = super::arith::division_at_pc(m) {
+        crate::ui::bitrows::breakdown(ui, &division, "About to run", &p);
+        ui.separator();
+    }
+    match super::arith::last_multiply(m) {
         None => {
             ui.label(RichText::new("No multiply yet: `A * B << n;` fills PREG.").color(p.dim));
         }
-        Some(mult) => {
-            let shifted = if mult.left {
-                mult.product << mult.shift
-            } else {
-                mult.product >> mult.shift
-            };
-            let kept = shifted as u64 & super::PREG_MASK;
-            let lost_high = (shifted >> 48) != 0 && (shifted >> 48) != -1
-                || ((shifted >> 47) & 1 != 0) != (shifted < 0);
-            ui.label(RichText::new(format!("Last multiply (line {})", mult.line)).strong());
-            ui.label(
-                RichText::new(format!(
-                    "{} × {} = {} exactly",
-                    mult.a, mult.b, mult.product
-                ))
-                .monospace(),
-            );
-            let dir = if mult.left { "<<" } else { ">>" };
-            ui.label(
-                RichText::new(format!("{dir} {} → 0x{kept:012X}", mult.shift)).monospace(),
-            );
-            if !mult.left && mult.shift > 0 {
-                let lost = mult.product & ((1i128 << mult.shift) - 1);
-                ui.label(
-                    RichText::new(format!(
-                        "lost off the low end: {lost} (of 2^{})",
-                        mult.shift
-                    ))
-                    .color(p.dim),
-                );
-            }
-            if lost_high {
-                ui.label(
-                    RichText::new("high bits beyond 48 were lost: PREG wrapped")
-                        .color(p.error),
-                );
-            }
-        }
+        Some(b) => crate::ui::bitrows::breakdown(ui, &b, "Last multiply", &p),
     }
 }
 
