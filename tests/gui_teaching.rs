@@ -239,7 +239,7 @@ fn the_product_panel_shows_the_multiply_about_to_run_and_then_the_last_one() {
     );
     h.get_by_label_contains("0.2354 dropped by the shift");
     apply(&mut h, Command::StepOver);
-    h.get_by_label_contains("Last run (at ");
+    h.get_by_label_contains("Last run (at tick ");
     h.get_by_label_contains("stored 1016");
 }
 

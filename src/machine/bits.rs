@@ -47,3 +47,33 @@ pub struct Breakdown {
     /// The real-number arithmetic and the error of what is stored.
     pub real: Option<String>,
 }
+
+// The numbers of the panels' real-number lines: text for people, so floating point is fine.
+
+/// A decimal for people: up to `places` decimals, trailing zeros dropped.
+pub fn decimal(value: f64, places: usize) -> String {
+    let text = format!("{value:.places$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    }
+}
+
+/// `stored` against `exact`, relative: `−0.023 %`.
+pub fn relative_error(stored: f64, exact: f64) -> String {
+    if exact == 0.0 {
+        return if stored == 0.0 {
+            "0 %".into()
+        } else {
+            "∞ %".into()
+        };
+    }
+    let percent = (stored - exact) / exact.abs() * 100.0;
+    let text = format!("{percent:+.3} %").replace('-', "−");
+    if text == "+0.000 %" || text == "−0.000 %" {
+        "0 %".to_string()
+    } else {
+        text
+    }
+}

@@ -34,26 +34,43 @@ pub fn bit_tooltip(bit: u8, on: bool, point: Option<u8>) -> String {
     }
 }
 
+/// Bits a line holds: a 64-bit row is drawn as two lines (63..32 over 31..0), so it reads in
+/// a narrow panel.
+const LINE_BITS: u8 = 32;
+
 /// Draw `row` (its label above) and give each bit a hover text.
 pub fn show(ui: &mut egui::Ui, row: &BitRow, p: &Palette) {
     ui.label(RichText::new(&row.label).monospace());
     let width = row.width.clamp(1, 64);
-    let size = vec2(row_width(width, row.point), CELL.y + 12.0);
+    let mut top = width;
+    while top > 0 {
+        let low = top.saturating_sub(LINE_BITS);
+        line(ui, row, low, top - 1, p);
+        top = low;
+    }
+}
+
+/// Bits `high..=low` of `row` as one line of cells, numbers under them.
+fn line(ui: &mut egui::Ui, row: &BitRow, low: u8, high: u8, p: &Palette) {
+    let count = high - low + 1;
+    // The point is drawn in the line that holds the bits on both sides of it.
+    let point = row.point.filter(|&pt| pt > low && pt <= high);
+    let size = vec2(row_width(count, point), CELL.y + 12.0);
     let (rect, response) = ui.allocate_exact_size(size, Sense::hover());
     let painter = ui.painter_at(rect.expand(1.0));
     let font = egui::FontId::monospace(11.0);
     let small = egui::FontId::monospace(8.0);
     let x_of = |bit: u8| {
-        let from_left = width - 1 - bit;
+        let from_left = high - bit;
         let mut x =
             rect.left() + f32::from(from_left) * CELL.x + f32::from(from_left / 4) * NIBBLE_GAP;
-        if row.point.is_some_and(|p| bit < p) {
+        if point.is_some_and(|pt| bit < pt) {
             x += POINT_GAP;
         }
         x
     };
     let mut hovered = None;
-    for bit in 0..width {
+    for bit in low..=high {
         let on = row.value >> bit & 1 == 1;
         let kept = row.keep.keeps(bit);
         let x = x_of(bit);
@@ -75,9 +92,9 @@ pub fn show(ui: &mut egui::Ui, row: &BitRow, p: &Palette) {
             font.clone(),
             text,
         );
-        // Bit numbers under every fourth bit, and under the bits next to the point.
+        // Bit numbers under every fourth bit, the line's first, and the bits at the point.
         let numbered =
-            bit % 4 == 0 || bit == width - 1 || row.point.is_some_and(|p| bit + 1 == p || bit == p);
+            bit % 4 == 0 || bit == high || point.is_some_and(|pt| bit + 1 == pt || bit == pt);
         if numbered {
             painter.text(
                 egui::pos2(cell.center().x, cell.bottom() + 1.0),
@@ -94,8 +111,8 @@ pub fn show(ui: &mut egui::Ui, row: &BitRow, p: &Palette) {
             hovered = Some((bit, on));
         }
     }
-    if let Some(point) = row.point.filter(|&p| p > 0 && p < width) {
-        let x = x_of(point) + CELL.x + POINT_GAP / 2.0 - 0.5;
+    if let Some(pt) = point {
+        let x = x_of(pt) + CELL.x + POINT_GAP / 2.0 - 0.5;
         painter.circle_filled(egui::pos2(x, rect.top() + CELL.y - 3.0), 2.0, p.written);
     }
     if let Some((bit, on)) = hovered {

@@ -52,7 +52,8 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut HelpView) {
     let filter = view.filter.trim().to_ascii_uppercase();
     let height = ui.available_height();
     ui.horizontal_top(|ui| {
-        ui.allocate_ui(egui::vec2(130.0, height), |ui| {
+        let column = egui::Layout::top_down(egui::Align::LEFT);
+        ui.allocate_ui_with_layout(egui::vec2(130.0, height), column, |ui| {
             egui::ScrollArea::vertical()
                 .id_salt("help_index")
                 .auto_shrink([false, false])
@@ -84,11 +85,14 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut HelpView) {
                 None => dialect.reference.to_string(),
             },
         };
-        egui::ScrollArea::vertical()
-            .id_salt("help_text")
-            .auto_shrink([false, false])
-            .show(ui, |ui| {
-                CommonMarkViewer::new().show(ui, &mut view.cache, &text);
-            });
+        let room = egui::vec2(ui.available_width(), height);
+        ui.allocate_ui_with_layout(room, column, |ui| {
+            egui::ScrollArea::vertical()
+                .id_salt("help_text")
+                .auto_shrink([false, false])
+                .show(ui, |ui| {
+                    CommonMarkViewer::new().show(ui, &mut view.cache, &text);
+                });
+        });
     });
 }

@@ -145,7 +145,11 @@ fn results(ui: &mut egui::Ui, debugger: &Debugger, view: &LessonView) {
     let (pass, fail) = (palette.bit_on, palette.error);
     let passed = outcomes.iter().filter(|o| o.pass).count();
     let stale = *at != debugger.machine().pos();
-    let mut summary = format!("{passed} of {} checks pass (at {at})", outcomes.len());
+    let tick = debugger.dialect().vocabulary.tick;
+    let mut summary = format!(
+        "{passed} of {} checks pass (at {tick} {at})",
+        outcomes.len()
+    );
     if stale {
         summary.push_str(" — the position has changed since: Check again");
     }

@@ -9,7 +9,7 @@
 //! decimals and percentages here are text for people, computed once per frame.
 
 use super::program::{ClcOp, ExtOp, Instr};
-use crate::machine::bits::{BitRow, Breakdown, Keep};
+use crate::machine::bits::{BitRow, Breakdown, Keep, decimal, relative_error};
 use super::{SilverLode, sx16};
 
 /// The operations the panel explains.
@@ -98,30 +98,6 @@ fn ext(m: &SilverLode, line: usize, command: String, op: ExtOp, res: u8, a: u8, 
             let lower = m.reg(usize::from(a) + 1);
             wide_divide(line, command, upper, lower, d, a)
         }
-    }
-}
-
-/// A decimal for people: up to `places` decimals, trailing zeros dropped.
-fn decimal(value: f64, places: usize) -> String {
-    let text = format!("{value:.places$}");
-    if text.contains('.') {
-        text.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        text
-    }
-}
-
-/// `stored` against `exact`, relative: `−0.023 %`.
-fn relative_error(stored: f64, exact: f64) -> String {
-    if exact == 0.0 {
-        return if stored == 0.0 { "0 %".into() } else { "∞ %".into() };
-    }
-    let percent = (stored - exact) / exact.abs() * 100.0;
-    let text = format!("{percent:+.3} %").replace('-', "−");
-    if text == "+0.000 %" || text == "−0.000 %" {
-        "0 %".to_string()
-    } else {
-        text
     }
 }
 

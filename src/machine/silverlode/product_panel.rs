@@ -54,7 +54,7 @@ impl DialectPanel for ProductPanel {
             .show(ui, |ui| match (&next, last) {
                 (Some(b), _) => breakdown(ui, b, "About to run", &p),
                 (None, Some((at, b))) => {
-                    breakdown(ui, b, &format!("Last run (at {at})"), &p);
+                    breakdown(ui, b, &format!("Last run (at tick {at})"), &p);
                 }
                 (None, None) => {
                     ui.label(

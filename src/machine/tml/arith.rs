@@ -5,29 +5,7 @@
 
 use super::Tml;
 use super::program::Op;
-use crate::machine::bits::{BitRow, Breakdown, Keep};
-
-/// A decimal for people: up to `places` decimals, trailing zeros dropped.
-fn decimal(value: f64, places: usize) -> String {
-    let text = format!("{value:.places$}");
-    if text.contains('.') {
-        text.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        text
-    }
-}
-
-fn relative_error(stored: f64, exact: f64) -> String {
-    if exact == 0.0 {
-        return if stored == 0.0 { "0 %".into() } else { "∞ %".into() };
-    }
-    let text = format!("{:+.3} %", (stored - exact) / exact.abs() * 100.0).replace('-', "−");
-    if text.ends_with("0.000 %") {
-        "0 %".to_string()
-    } else {
-        text
-    }
-}
+use crate::machine::bits::{BitRow, Breakdown, Keep, decimal, relative_error};
 
 /// Whether A of the multiply on `line` is a fixed datum (its product is then 32.16).
 fn a_is_fixed(m: &Tml, line: usize) -> bool {
