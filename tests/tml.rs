@@ -671,3 +671,49 @@ fn a_missing_value_points_past_the_equals_sign() {
         "{e:?}"
     );
 }
+
+// ---- Literals with suffixes (spec §1.3) ------------------------------------------------------
+
+#[test]
+fn a_suffix_never_changes_the_value() {
+    // EasyMotion writes long constants as `115343L`.
+    let m = run(
+        "long l; long u; int i; int j;\nl = 115343L;\nu = 4294967295UL;\ni = 65535U;\nj = 0x1FU;\nl += 2lu;\nEND;\n",
+    );
+    assert_eq!(var(&m, "l"), 115_345);
+    assert_eq!(var(&m, "u"), -1, "4294967295 stored as its low 32 bits");
+    assert_eq!(
+        var(&m, "i"),
+        -1,
+        "65535 stored as its low 16 bits, read signed"
+    );
+    assert_eq!(var(&m, "j"), 31);
+    let m = run("long l;\nSAP 100000L;\nl = APOS;\nEND;\n");
+    assert_eq!(var(&m, "l"), 100_000, "SAP takes L");
+}
+
+#[test]
+fn a_suffix_where_the_table_refuses_it_is_an_error_at_the_number() {
+    let e = |src: &str| errors(&format!("int i; long l; fixed f;\n{src}\nEND;\n"));
+    assert_eq!(
+        e("i = 5L;"),
+        ["2:5: error: misplaced suffix 'L': L marks a 32-bit integer, and this is 16-bit"]
+    );
+    assert_eq!(e("i = 70000U;"), ["2:5: error: a U number is 0..65535"]);
+    assert_eq!(e("l = -5U;"), ["2:5: error: a U number is 0..65535"]);
+    assert_eq!(
+        e("f = 1U;"),
+        ["2:5: error: misplaced suffix 'U': fixed data takes a fixed literal or a whole number"]
+    );
+    assert_eq!(
+        e("i <<= 3U;"),
+        ["2:7: error: misplaced suffix 'U': this number takes no suffix"]
+    );
+    assert_eq!(
+        e("WAIT! 100L;"),
+        ["2:7: error: misplaced suffix 'L': this number takes no suffix"]
+    );
+    assert_eq!(e("i = 5LL;"), ["2:5: error: malformed number '5LL'"]);
+    assert_eq!(e("f = 1.5L;"), ["2:5: error: malformed number '1.5L'"]);
+    assert!(e("l = 5L; l = 4294967295LU; i = 65535u;").is_empty());
+}

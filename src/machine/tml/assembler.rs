@@ -40,11 +40,91 @@ const MAX_FIXED_DIGITS: usize = 25;
 #[derive(Clone, Debug, PartialEq)]
 enum Tok {
     Ident(String),
-    /// A number as written: decimal/hex integer, or a fixed literal.
-    Int(i128),
+    /// A number as written: decimal/hex integer with its suffix, or a fixed literal.
+    Int(i128, Suffix),
     Fixed(i128),
     BadNumber(String),
     Punct(&'static str),
+}
+
+/// An integer literal's suffix (spec §1.3): it never changes the value, it says where the
+/// literal may stand.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Suffix {
+    None,
+    /// `U`: 0..65535.
+    U,
+    /// `L`: a 32-bit integer.
+    L,
+    /// `UL` or `LU`: 0..2^32−1.
+    UL,
+}
+
+impl Suffix {
+    fn text(self) -> &'static str {
+        match self {
+            Suffix::None => "",
+            Suffix::U => "U",
+            Suffix::L => "L",
+            Suffix::UL => "UL",
+        }
+    }
+}
+
+/// Where a number stands, for its suffix (spec §1.3's table).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Context {
+    /// 16-bit data, SRB masks, the factor B of `*`: `U` allowed.
+    Bits16,
+    /// Long data, SAP, `!RT`: `U`, `L`, `UL`, `LU` allowed.
+    Bits32,
+    /// Fixed data: no suffix.
+    Fixed,
+    /// A shift count, a `WAIT!` time-out, an `!IN#` number or level: no suffix.
+    Count,
+}
+
+/// A number read from the tokens, with where it stands in the text.
+#[derive(Clone, Copy, Debug)]
+struct Num {
+    value: i128,
+    fixed: bool,
+    suffix: Suffix,
+    col: usize,
+    len: usize,
+}
+
+impl Num {
+    /// Refuse a suffix the context does not take, and a value its suffix does not allow.
+    fn check(&self, context: Context) -> Result<(), Error> {
+        let s = self.suffix;
+        let misplaced = |what: &str| {
+            err(
+                self.col,
+                self.len,
+                format!("misplaced suffix '{}': {what}", s.text()),
+            )
+        };
+        match (context, s) {
+            (_, Suffix::None) => Ok(()),
+            (Context::Count, _) => misplaced("this number takes no suffix"),
+            (Context::Fixed, _) => misplaced("fixed data takes a fixed literal or a whole number"),
+            (Context::Bits16, Suffix::L | Suffix::UL) => {
+                misplaced("L marks a 32-bit integer, and this is 16-bit")
+            }
+            (_, Suffix::U) if !(0..=65535).contains(&self.value) => err(
+                self.col,
+                self.len,
+                "a U number is 0..65535",
+            ),
+            (_, Suffix::UL) if !(0..=i128::from(u32::MAX)).contains(&self.value) => err(
+                self.col,
+                self.len,
+                "a UL number is 0..4294967295",
+            ),
+            _ => Ok(()),
+        }
+    }
 }
 
 #[derive(Clone, Debug)]
@@ -137,11 +217,24 @@ fn lex(text: &[char], start: usize) -> Vec<Token> {
 fn number(word: &str) -> Tok {
     let bad = || Tok::BadNumber(word.to_string());
     let lower = word.to_ascii_lowercase();
+    // An integer's suffix: UL, LU, U or L (a fixed literal takes none: `1.5L` is malformed).
+    let (lower, suffix) = if lower.contains('.') {
+        (lower.as_str(), Suffix::None)
+    } else if let Some(body) = lower.strip_suffix("ul").or_else(|| lower.strip_suffix("lu")) {
+        (body, Suffix::UL)
+    } else if let Some(body) = lower.strip_suffix('u') {
+        (body, Suffix::U)
+    } else if let Some(body) = lower.strip_suffix('l') {
+        (body, Suffix::L)
+    } else {
+        (lower.as_str(), Suffix::None)
+    };
+    let int = |v: i128| Tok::Int(v, suffix);
     if let Some(hex) = lower.strip_prefix("0x") {
         if hex.is_empty() || hex.len() > 16 {
             return bad();
         }
-        return i128::from_str_radix(hex, 16).map_or_else(|_| bad(), Tok::Int);
+        return i128::from_str_radix(hex, 16).map_or_else(|_| bad(), int);
     }
     if let Some((int, frac)) = word.split_once('.') {
         if int.is_empty()
@@ -167,10 +260,10 @@ fn number(word: &str) -> Tok {
         let raw = if 2 * r >= scale { q + 1 } else { q };
         return Tok::Fixed(raw);
     }
-    if word.len() > 20 || !word.chars().all(|c| c.is_ascii_digit()) {
+    if lower.is_empty() || lower.len() > 20 || !lower.chars().all(|c| c.is_ascii_digit()) {
         return bad();
     }
-    word.parse().map_or_else(|_| bad(), Tok::Int)
+    lower.parse().map_or_else(|_| bad(), int)
 }
 
 /// Names the program and the drive define, while the program is read.
@@ -319,15 +412,15 @@ fn datum_name(op: &Operand, names: &Names) -> String {
     }
 }
 
-/// A possibly negative number at `at`: (value, is fixed literal, col, len).
-fn signed_number(ts: &[Token], at: &mut usize) -> Option<Result<(i128, bool, usize, usize), Error>> {
+/// A possibly negative number at `at`.
+fn signed_number(ts: &[Token], at: &mut usize) -> Option<Result<Num, Error>> {
     let start = *at;
     let negative = punct(ts, *at, "-");
     let i = *at + usize::from(negative);
     let t = ts.get(i)?;
-    let (v, fixed) = match &t.tok {
-        Tok::Int(v) => (*v, false),
-        Tok::Fixed(v) => (*v, true),
+    let (v, fixed, suffix) = match &t.tok {
+        Tok::Int(v, suffix) => (*v, false, *suffix),
+        Tok::Fixed(v) => (*v, true, Suffix::None),
         Tok::BadNumber(w) if w.starts_with('.') => {
             return Some(err(
                 t.col,
@@ -342,13 +435,24 @@ fn signed_number(ts: &[Token], at: &mut usize) -> Option<Result<(i128, bool, usi
     };
     *at = i + 1;
     let col = ts[start].col;
-    Some(Ok((if negative { -v } else { v }, fixed, col, t.col + t.len - col)))
+    Some(Ok(Num {
+        value: if negative { -v } else { v },
+        fixed,
+        suffix,
+        col,
+        len: t.col + t.len - col,
+    }))
+}
+
+/// A plain number (no suffix, not fixed) at `at`, for counts, time-outs and levels.
+fn count_number(ts: &[Token], at: &mut usize) -> Option<Result<Num, Error>> {
+    Some(signed_number(ts, at)?.and_then(|n| n.check(Context::Count).map(|()| n)))
 }
 
 fn shift_count(ts: &[Token], at: &mut usize) -> Result<u8, Error> {
-    match signed_number(ts, at) {
-        Some(Ok((n, false, _, _))) if (0..=15).contains(&n) => Ok(n as u8),
-        Some(Ok((_, _, col, len))) => err(col, len, "shift count outside 0..15"),
+    match count_number(ts, at) {
+        Some(Ok(n)) if !n.fixed && (0..=15).contains(&n.value) => Ok(n.value as u8),
+        Some(Ok(n)) => err(n.col, n.len, "shift count outside 0..15"),
         Some(Err(e)) => Err(e),
         None => {
             let (col, len) = ts.get(*at).map_or((0, 1), |t| (t.col, t.len));
@@ -359,7 +463,21 @@ fn shift_count(ts: &[Token], at: &mut usize) -> Result<u8, Error> {
 
 /// An immediate for a destination of type `dst` (spec §1: imm16, imm32, immF), as the raw
 /// value the statement stores or adds.
-fn immediate(v: i128, fixed_literal: bool, dst: &Operand, col: usize, len: usize) -> Result<i64, Error> {
+fn immediate(n: Num, dst: &Operand) -> Result<i64, Error> {
+    let Num {
+        value: v,
+        fixed: fixed_literal,
+        col,
+        len,
+        ..
+    } = n;
+    n.check(if dst.is_fixed() {
+        Context::Fixed
+    } else if dst.bits() == 16 {
+        Context::Bits16
+    } else {
+        Context::Bits32
+    })?;
     if dst.is_fixed() {
         if fixed_literal {
             if !(i128::from(i32::MIN)..=i128::from(i32::MAX)).contains(&v) {
@@ -423,7 +541,7 @@ fn label_target(ts: &[Token], at: &mut usize, names: &Names) -> Result<u32, Erro
                 err(t.col, t.len, format!("undefined label '{name}'{hint}"))
             }
         },
-        Tok::Int(_) => not_supported(t, "a jump to a numeric address"),
+        Tok::Int(..) => not_supported(t, "a jump to a numeric address"),
         _ => err(t.col, t.len, "expected a label"),
     }
 }
@@ -437,13 +555,12 @@ fn value_of_width(
     bits: u8,
 ) -> Result<Value, Error> {
     if let Some(n) = signed_number(ts, at) {
-        let (v, fixed, col, len) = n?;
         let as_integer = Operand {
             data: Data::Pre(d::UPGRADE),
             half: None,
             ty: if bits == 16 { Ty::Int } else { Ty::Long },
         };
-        return immediate(v, fixed, &as_integer, col, len).map(Value::Imm);
+        return immediate(n?, &as_integer).map(Value::Imm);
     }
     if *at >= ts.len() {
         let col = ts.last().map_or(1, |t| t.col + t.len);
@@ -484,7 +601,7 @@ fn statement(ts: &[Token], names: &mut Names, line: usize) -> Result<Option<Op>,
             }
             if !next_is_operator && predefined(word).is_none() && !names.var_index.contains_key(&upper) {
                 let candidates = MNEMONICS.iter().copied().chain(UNSUPPORTED.iter().copied());
-                if ts.len() == 1 || matches!(ts.get(1), Some(Token { tok: Tok::Ident(_) | Tok::Int(_), .. })) {
+                if ts.len() == 1 || matches!(ts.get(1), Some(Token { tok: Tok::Ident(_) | Tok::Int(..), .. })) {
                     let hint = names
                         .suggester
                         .suggest(word, candidates)
@@ -525,14 +642,8 @@ fn statement(ts: &[Token], names: &mut Names, line: usize) -> Result<Option<Op>,
             check_writable(names)?;
             let subtract = op == "-=";
             let (src, kind) = if let Some(n) = signed_number(ts, &mut at) {
-                let (v, fixed, col, len) = n?;
-                let v = if lhs.bits() == 32 && !lhs.is_fixed() && !fixed {
-                    // An immediate added to a long is 32-bit (spec §8).
-                    immediate(v, false, &lhs, col, len)?
-                } else {
-                    immediate(v, fixed, &lhs, col, len)?
-                };
-                (Value::Imm(v), AddKind::Plain)
+                // An immediate added to a long is 32-bit (spec §8).
+                (Value::Imm(immediate(n?, &lhs)?), AddKind::Plain)
             } else {
                 if at >= ts.len() {
                     return err(op_tok.col + op_tok.len, 1, "expected a value");
@@ -560,7 +671,7 @@ fn statement(ts: &[Token], names: &mut Names, line: usize) -> Result<Option<Op>,
             if lhs.bits() != 32 {
                 return err(lhs_tok.col, lhs_tok.len, "the dividend must be 32-bit (long or fixed)");
             }
-            if let Some(Ok((_, _, col, len))) = signed_number(ts, &mut at.clone()) {
+            if let Some(Ok(Num { col, len, .. })) = signed_number(ts, &mut at.clone()) {
                 return err(col, len, "the divisor must be a 16-bit datum, not an immediate");
             }
             if at >= ts.len() {
@@ -604,8 +715,7 @@ fn statement(ts: &[Token], names: &mut Names, line: usize) -> Result<Option<Op>,
 
 fn assignment(ts: &[Token], at: &mut usize, names: &mut Names, lhs: Operand, lhs_tok: &Token) -> Result<Op, Error> {
     if let Some(n) = signed_number(ts, at) {
-        let (v, fixed, col, len) = n?;
-        return Ok(Op::Assign(lhs, Value::Imm(immediate(v, fixed, &lhs, col, len)?)));
+        return Ok(Op::Assign(lhs, Value::Imm(immediate(n?, &lhs)?)));
     }
     let negate = punct(ts, *at, "-");
     if negate {
@@ -758,8 +868,11 @@ fn mnemonic(ts: &[Token], names: &mut Names, upper: &str) -> Result<Op, Error> {
                 }
                 at += 1;
                 match signed_number(ts, &mut at) {
-                    Some(Ok((v, false, _, _))) if (-32768..=65535).contains(&v) => *mask = v as u16,
-                    Some(Ok((_, _, col, len))) => return err(col, len, "a mask is a 16-bit number (−32768..65535)"),
+                    Some(Ok(n)) if !n.fixed && (-32768..=65535).contains(&n.value) => {
+                        n.check(Context::Bits16)?;
+                        *mask = n.value as u16;
+                    }
+                    Some(Ok(n)) => return err(n.col, n.len, "a mask is a 16-bit number (−32768..65535)"),
                     Some(Err(e)) => return Err(e),
                     None => {
                         let col = ts.get(at).map_or(ts[at - 1].col + 1, |t| t.col);
@@ -774,10 +887,10 @@ fn mnemonic(ts: &[Token], names: &mut Names, upper: &str) -> Result<Op, Error> {
                 return err(first.col, first.len, "expected WAIT! (WAIT with '!')");
             }
             at = 2;
-            let limit = match signed_number(ts, &mut at) {
+            let limit = match count_number(ts, &mut at) {
                 None => None,
-                Some(Ok((v, false, _, _))) if (0..=65535).contains(&v) => Some(v as u16),
-                Some(Ok((_, _, col, len))) => return err(col, len, "a WAIT! time-out is a number of ticks 0..65535"),
+                Some(Ok(n)) if !n.fixed && (0..=65535).contains(&n.value) => Some(n.value as u16),
+                Some(Ok(n)) => return err(n.col, n.len, "a WAIT! time-out is a number of ticks 0..65535"),
                 Some(Err(e)) => return Err(e),
             };
             Op::Wait(limit)
@@ -791,7 +904,8 @@ fn mnemonic(ts: &[Token], names: &mut Names, upper: &str) -> Result<Op, Error> {
 fn token_text(t: &Token) -> String {
     match &t.tok {
         Tok::Ident(s) | Tok::BadNumber(s) => s.clone(),
-        Tok::Int(v) | Tok::Fixed(v) => v.to_string(),
+        Tok::Int(v, suffix) => format!("{v}{}", suffix.text()),
+        Tok::Fixed(v) => v.to_string(),
         Tok::Punct(p) => (*p).to_string(),
     }
 }
@@ -813,16 +927,16 @@ fn event(ts: &[Token], names: &mut Names) -> Result<Op, Error> {
                 return err(t.col, t.len, "expected IN#n (an input 0..15)");
             }
             at = 3;
-            let n = match signed_number(ts, &mut at) {
-                Some(Ok((n, false, _, _))) if (0..=15).contains(&n) => n as u8,
-                Some(Ok((_, _, col, len))) => return err(col, len, "inputs are IN#0..IN#15"),
+            let n = match count_number(ts, &mut at) {
+                Some(Ok(n)) if !n.fixed && (0..=15).contains(&n.value) => n.value as u8,
+                Some(Ok(n)) => return err(n.col, n.len, "inputs are IN#0..IN#15"),
                 Some(Err(e)) => return Err(e),
                 None => return err(t.col, t.len, "expected IN#n (an input 0..15)"),
             };
-            let level = match signed_number(ts, &mut at) {
-                Some(Ok((0, false, _, _))) => false,
-                Some(Ok((1, false, _, _))) => true,
-                Some(Ok((_, _, col, len))) => return err(col, len, "an input event waits for level 0 or 1"),
+            let level = match count_number(ts, &mut at) {
+                Some(Ok(Num { value: 0, fixed: false, .. })) => false,
+                Some(Ok(Num { value: 1, fixed: false, .. })) => true,
+                Some(Ok(n)) => return err(n.col, n.len, "an input event waits for level 0 or 1"),
                 Some(Err(e)) => return Err(e),
                 None => {
                     let col = ts.last().map_or(t.col, |l| l.col + l.len);
