@@ -717,3 +717,23 @@ fn a_suffix_where_the_table_refuses_it_is_an_error_at_the_number() {
     assert_eq!(e("f = 1.5L;"), ["2:5: error: malformed number '1.5L'"]);
     assert!(e("l = 5L; l = 4294967295LU; i = 65535u;").is_empty());
 }
+
+#[test]
+fn tml_data_servoscope_does_not_model_is_named_with_its_type_and_address() {
+    // Spec §2.3.
+    assert_eq!(
+        errors("long l;\nl = CDEC;\nEND;\n"),
+        ["2:5: error: 'CDEC' (fixed, 0x0858) is a TML datum that servoscope does not model yet"]
+    );
+    assert_eq!(
+        errors("HOMEPOS = 5;\nEND;\n"),
+        ["1:1: error: 'HOMEPOS' (long, 0x0992) is a TML datum that servoscope does not model yet"]
+    );
+    // Reserved: not a variable name either.
+    assert!(!errors("int tjerk;\nEND;\n").is_empty());
+    // Spec §5.10: the interrupt instructions.
+    assert_eq!(
+        errors("EINT;\nEND;\n"),
+        ["1:1: error: EINT: servoscope does not model TML interrupts yet"]
+    );
+}

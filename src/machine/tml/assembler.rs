@@ -28,6 +28,53 @@ pub const UNSUPPORTED: &[&str] = &[
     "ADDGRID", "REMGRID", "CANBR", "SCIBR", "SPIBR", "SETOFFSET", "GETOFFSET", "OUT", "IN",
 ];
 
+/// TML data servoscope does not model (spec §2.3): name, type and address. Reserved; any use is
+/// an error naming them.
+const UNMODELLED: &[(&str, &str, u16)] = &[
+    ("CDEC", "fixed", 0x0858),
+    ("TJERK", "long", 0x08D2),
+    ("ERRMAX", "uint", 0x02C5),
+    ("TERRMAX", "uint", 0x02C6),
+    ("ASR", "uint", 0x0201),
+    ("ACR", "uint", 0x0912),
+    ("SCR", "uint", 0x0300),
+    ("CER", "uint", 0x0301),
+    ("OSR", "uint", 0x0302),
+    ("PCR", "uint", 0x0303),
+    ("ICR", "uint", 0x0304),
+    ("DER2", "uint", 0x0305),
+    ("ISR", "uint", 0x0306),
+    ("MSR", "uint", 0x0308),
+    ("CCR", "uint", 0x030A),
+    ("CSR", "uint", 0x030B),
+    ("AAR", "uint", 0x030C),
+    ("CBR", "uint", 0x030D),
+    ("CAPPOS", "long", 0x02BC),
+    ("CAPPOS2", "long", 0x081E),
+    ("IQREF", "int", 0x022F),
+    ("HOMEPOS", "long", 0x0992),
+    ("HOMESPD", "fixed", 0x0994),
+    ("HOMECRT", "int", 0x08AC),
+    ("HOMETIME", "uint", 0x08AD),
+    ("HOMING_NR", "uint", 0x09B7),
+    ("LSACTIVE", "int", 0x0832),
+    ("QUICKSTOPS", "int", 0x082F),
+    ("TRANSMISSION", "long", 0x037C),
+];
+
+/// The error for a datum of [`UNMODELLED`], if `name` is one.
+fn unmodelled(name: &str) -> Option<String> {
+    UNMODELLED
+        .iter()
+        .find(|(n, _, _)| n.eq_ignore_ascii_case(name))
+        .map(|(n, ty, addr)| {
+            format!("'{n}' ({ty}, 0x{addr:04X}) is a TML datum that servoscope does not model yet")
+        })
+}
+
+/// TML's interrupt instructions (spec §5.10).
+const INTERRUPTS: &[&str] = &["RETI", "EINT", "DINT"];
+
 const UNSUPPORTED_EVENTS: &[&str] = &[
     "CAP", "LSP", "LSN", "AT", "RO", "RU", "RPO", "RPU", "RMPO", "RMPU", "VO", "VU", "LSO", "LSU",
     "MSO", "MSU", "ALPO", "ALPU", "AMPO", "AMPU", "PRT", "PVT", "PT",
@@ -292,6 +339,7 @@ fn reserved(upper: &str) -> bool {
         || TYPES.contains(&upper)
         || MNEMONICS.contains(&upper)
         || UNSUPPORTED.contains(&upper)
+        || unmodelled(upper).is_some()
 }
 
 impl Names<'_> {
@@ -332,6 +380,8 @@ impl Names<'_> {
                 t.len,
                 format!("'{name}' is a label: addresses of labels are not supported by servoscope yet"),
             );
+        } else if let Some(message) = unmodelled(name) {
+            return err(t.col, t.len, message);
         } else {
             let hint = self.suggestion(name);
             return err(t.col, t.len, format!("undeclared variable '{name}'{hint}"));
@@ -593,6 +643,13 @@ fn statement(ts: &[Token], names: &mut Names, line: usize) -> Result<Option<Op>,
                 return Ok(None);
             }
             let next_is_operator = matches!(ts.get(1), Some(Token { tok: Tok::Punct(p), .. }) if ["=", "+=", "-=", "/=", "<<=", ">>=", "<<", ">>", "*", "(", ","].contains(p));
+            if INTERRUPTS.contains(&upper.as_str()) {
+                return err(
+                    first.col,
+                    first.len,
+                    format!("{upper}: servoscope does not model TML interrupts yet"),
+                );
+            }
             if UNSUPPORTED.contains(&upper.as_str()) && !names.var_index.contains_key(&upper) {
                 return not_supported(first, &format!("the TML instruction {upper}"));
             }
