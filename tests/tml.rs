@@ -737,3 +737,30 @@ fn tml_data_servoscope_does_not_model_is_named_with_its_type_and_address() {
         ["1:1: error: EINT: servoscope does not model TML interrupts yet"]
     );
 }
+
+#[test]
+fn a_multi_axis_statement_is_one_error_naming_it() {
+    // Spec §5.10: it runs to the end of its `{…}` group (the `;` inside do not end it).
+    assert_eq!(
+        errors("[G1]{CPOS=2000;}; int x; x = 5;\nEND;\n"),
+        [
+            "1:1: error: multi-axis statement '[G1] {…}' (sent to group 1) is not supported by servoscope yet"
+        ]
+    );
+    assert_eq!(
+        errors("int x; int y;\n[3] x = y;\nEND;\n"),
+        [
+            "2:1: error: multi-axis statement '[3] x = y' (sent to axis 3) is not supported by servoscope yet"
+        ]
+    );
+    assert_eq!(
+        errors("  [B]{STOP; UPD;};\nEND;\n"),
+        [
+            "1:3: error: multi-axis statement '[B] {…}' (broadcast to every axis) is not supported by servoscope yet"
+        ]
+    );
+    assert_eq!(
+        errors("{CPOS = 5;};\nEND;\n"),
+        ["1:1: error: multi-axis statement '{…}' is not supported by servoscope yet"]
+    );
+}

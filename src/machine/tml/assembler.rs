@@ -629,12 +629,61 @@ fn value_of_width(
     Ok(Value::Var(op))
 }
 
+/// The indices of the `;` that end statements in `body`: a `;` inside a multi-axis `{…}` group
+/// does not end one (spec §5.10: the statement runs to the end of its group).
+fn statement_ends(body: &[char]) -> Vec<usize> {
+    let mut depth = 0usize;
+    let mut ends = Vec::new();
+    for (k, &c) in body.iter().enumerate() {
+        match c {
+            '{' => depth += 1,
+            '}' => depth = depth.saturating_sub(1),
+            ';' if depth == 0 => ends.push(k),
+            _ => {}
+        }
+    }
+    ends
+}
+
+/// The one error of a multi-axis statement (`[3] X = Y`, `[G1]{CPOS=2000;}`, `[B]{STOP;}`) or
+/// a bare `{…}` group, naming it and where it is sent.
+fn multi_axis(ts: &[Token], seg: &[char]) -> Error {
+    let text: String = seg.iter().collect::<String>().trim().to_string();
+    // The group's body is elided: `[G1] {…}`.
+    let shown = match (text.find('{'), text.rfind('}')) {
+        (Some(open), Some(close)) if open < close => {
+            let before = text[..open].trim_end();
+            let gap = if before.is_empty() { "" } else { " " };
+            format!("{before}{gap}{{…}}{}", &text[close + 1..])
+        }
+        _ => text.clone(),
+    };
+    let target = text
+        .strip_prefix('[')
+        .and_then(|r| r.split_once(']'))
+        .map(|(t, _)| t.trim().to_ascii_uppercase());
+    let sent = match target.as_deref() {
+        Some("B") => " (broadcast to every axis)".to_string(),
+        Some(t) if t.starts_with('G') => format!(" (sent to group {})", &t[1..]),
+        Some(t) => format!(" (sent to axis {t})"),
+        None => String::new(),
+    };
+    let first = &ts[0];
+    let len = ts.last().map_or(first.len, |l| l.col + l.len - first.col);
+    Error {
+        col: first.col,
+        len,
+        message: format!(
+            "multi-axis statement '{shown}'{sent} is not supported by servoscope yet"
+        ),
+    }
+}
+
 /// One statement (without its `;`).
 fn statement(ts: &[Token], names: &mut Names, line: usize) -> Result<Option<Op>, Error> {
     let first = &ts[0];
     match &first.tok {
         Tok::Punct("!") => return event(ts, names).map(Some),
-        Tok::Punct("[") | Tok::Punct("{") => return not_supported(first, "a multi-axis statement"),
         Tok::Punct("(") => return not_supported(first, "addressing through a variable ((var),dm)"),
         Tok::Ident(word) => {
             let upper = word.to_ascii_uppercase();
@@ -1086,16 +1135,14 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
         // Statements that are empty (`;;`) are not counted.
         let mut nonempty = 0;
         let mut start = 0;
-        for (k, &c) in body.iter().enumerate() {
-            if c == ';' {
-                // Declarations are not statements: labels count only what runs.
-                let seg: String = body[start..k].iter().collect();
-                let first = seg.split_whitespace().next().unwrap_or("").to_ascii_uppercase();
-                if !seg.trim().is_empty() && !TYPES.contains(&first.as_str()) {
-                    nonempty += 1;
-                }
-                start = k + 1;
+        for k in statement_ends(body) {
+            // Declarations are not statements: labels count only what runs.
+            let seg: String = body[start..k].iter().collect();
+            let first = seg.split_whitespace().next().unwrap_or("").to_ascii_uppercase();
+            if !seg.trim().is_empty() && !TYPES.contains(&first.as_str()) {
+                nonempty += 1;
             }
+            start = k + 1;
         }
         count += nonempty;
         bodies.push(Some(Line {
@@ -1126,10 +1173,7 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
         let Some(line) = line else { continue };
         let line_no = i + 1;
         let mut start = 0;
-        for (k, &c) in line.body.iter().enumerate() {
-            if c != ';' {
-                continue;
-            }
+        for k in statement_ends(&line.body) {
             let seg = &line.body[start..k];
             let seg_col = line.body_col + start;
             start = k + 1;
@@ -1138,7 +1182,11 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
             }
             let ts = lex(seg, seg_col);
             let lead = seg.iter().take_while(|c| c.is_whitespace()).count();
-            match statement(&ts, &mut names, line_no) {
+            let parsed = match ts.first().map(|t| &t.tok) {
+                Some(Tok::Punct("[" | "{")) => Err(multi_axis(&ts, seg)),
+                _ => statement(&ts, &mut names, line_no),
+            };
+            match parsed {
                 Ok(Some(op)) => stmts.push(Stmt {
                     op,
                     line: line_no,
