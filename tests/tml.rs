@@ -764,3 +764,33 @@ fn a_multi_axis_statement_is_one_error_naming_it() {
         ["1:1: error: multi-axis statement '{…}' is not supported by servoscope yet"]
     );
 }
+
+#[test]
+fn real_tml_outside_the_subset_is_named_precisely() {
+    // Spec §5.10.
+    let first = |src: &str| errors(&format!("int a; int b;\n{src}\nEND;\n")).remove(0);
+    assert_eq!(
+        first("a = (b),dm;"),
+        "2:5: error: addressing through a variable ((var),dm) is not supported by servoscope yet"
+    );
+    assert_eq!(
+        first("a = b,dm;"),
+        "2:5: error: addressing through a variable (X,dm) is not supported by servoscope yet"
+    );
+    assert_eq!(
+        first("@ 0x4000;"),
+        "2:1: error: a data word '@ …' (EasyMotion's homing and function tables) is not supported by servoscope yet"
+    );
+    assert_eq!(
+        first("a = IN(3);"),
+        "2:5: error: reading inputs with IN(…) is not supported by servoscope yet"
+    );
+    assert_eq!(
+        first("UPD!;"),
+        "2:1: error: UPD! is not supported by servoscope yet"
+    );
+    assert_eq!(
+        first("MODE SP;"),
+        "2:6: error: MODE SP is not supported by servoscope yet"
+    );
+}

@@ -196,12 +196,12 @@ fn err<T>(col: usize, len: usize, message: impl Into<String>) -> Result<T, Error
 }
 
 fn allowed(c: char) -> bool {
-    c.is_ascii_alphanumeric() || c.is_whitespace() || "_;:,.=+-*/<>!#()[]{}".contains(c)
+    c.is_ascii_alphanumeric() || c.is_whitespace() || "_;:,.=+-*/<>!#()[]{}@".contains(c)
 }
 
 const PUNCTS: &[&str] = &[
     "<<=", ">>=", "+=", "-=", "/=", "<<", ">>", "=", "*", ",", "(", ")", "!", "#", "-", "[", "]",
-    "{", "}", ".", "+", "/", "<", ">", ":",
+    "{", "}", ".", "+", "/", "<", ">", ":", "@",
 ];
 
 /// Tokens of one statement; `start` is the 1-based column of `text[0]`.
@@ -838,7 +838,21 @@ fn assignment(ts: &[Token], at: &mut usize, names: &mut Names, lhs: Operand, lhs
     {
         return not_supported(&t, "the address of a label (var = label)");
     }
+    if matches!(t.tok, Tok::Punct("(")) {
+        return not_supported(&t, "addressing through a variable ((var),dm)");
+    }
+    if let Tok::Ident(name) = &t.tok
+        && name.eq_ignore_ascii_case("IN")
+        && punct(ts, *at + 1, "(")
+    {
+        return not_supported(&t, "reading inputs with IN(…)");
+    }
     let src = names.operand(ts, at)?;
+    if punct(ts, *at, ",")
+        && matches!(ts.get(*at + 1), Some(Token { tok: Tok::Ident(dm), .. }) if dm.eq_ignore_ascii_case("dm"))
+    {
+        return not_supported(&t, "addressing through a variable (X,dm)");
+    }
     if src.bits() != lhs.bits() {
         return err(t.col, t.len, format!(
             "16/32-bit width mismatch: {} is {}-bit, {} is {}-bit (use X(L) or X(H))",
@@ -1184,6 +1198,10 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
             let lead = seg.iter().take_while(|c| c.is_whitespace()).count();
             let parsed = match ts.first().map(|t| &t.tok) {
                 Some(Tok::Punct("[" | "{")) => Err(multi_axis(&ts, seg)),
+                Some(Tok::Punct("@")) => not_supported(
+                    &ts[0],
+                    "a data word '@ …' (EasyMotion's homing and function tables)",
+                ),
                 _ => statement(&ts, &mut names, line_no),
             };
             match parsed {
