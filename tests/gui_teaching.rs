@@ -128,7 +128,10 @@ fn save_as_lesson_offers_the_watches_as_checks_and_saves_the_section() {
     apply(&mut h, Command::SaveSessionTo(path.clone()));
     let saved = servoscope::session::Session::load(&path).expect("saved");
     let lesson = saved.lesson.expect("the lesson section is saved");
-    assert_eq!(lesson.title, "scaling.qsl");
+    assert_eq!(
+        lesson.title, "scaling",
+        "the program's name without its extension"
+    );
     assert_eq!(lesson.steps[0].checks, ["R21 == 1016"]);
     assert!(!h.state().is_dirty(), "saved");
 }

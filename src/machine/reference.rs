@@ -60,11 +60,22 @@ pub fn entries(document: &str) -> Vec<Entry> {
             .unwrap_or("")
             .trim()
             .to_string();
+        // The summary's lines (syntax, effect, flags) stay lines when rendered: hard breaks.
+        let body = body.trim_end();
+        let body = match body.find(&summary) {
+            Some(at) if !summary.is_empty() => format!(
+                "{}{}{}",
+                &body[..at],
+                summary.replace('\n', "  \n"),
+                &body[at + summary.len()..]
+            ),
+            _ => body.to_string(),
+        };
         out.push(Entry {
             names,
             title: title.to_string(),
             summary,
-            markdown: format!("### {heading}\n{}", body.trim_end()),
+            markdown: format!("### {heading}\n{body}"),
         });
     }
     out
@@ -97,6 +108,13 @@ mod tests {
         assert_eq!(all[0].title, "add to the accumulator");
         assert_eq!(all[0].summary, "`ADD V2000`\nAdds.\nFlags: SP63.");
         assert!(all[0].markdown.ends_with("More."));
+        assert!(
+            all[0]
+                .markdown
+                .contains("`ADD V2000`  \nAdds.  \nFlags: SP63."),
+            "the summary's lines stay lines: {}",
+            all[0].markdown
+        );
         assert_eq!(entry_for(DOC, "addd").map(|e| e.names.len()), Some(2));
         assert!(
             entry_for(DOC, "NOT").is_none(),

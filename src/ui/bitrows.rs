@@ -55,11 +55,11 @@ fn line(ui: &mut egui::Ui, row: &BitRow, low: u8, high: u8, p: &Palette) {
     let count = high - low + 1;
     // The point is drawn in the line that holds the bits on both sides of it.
     let point = row.point.filter(|&pt| pt > low && pt <= high);
-    let size = vec2(row_width(count, point), CELL.y + 12.0);
+    let size = vec2(row_width(count, point), CELL.y + 13.0);
     let (rect, response) = ui.allocate_exact_size(size, Sense::hover());
     let painter = ui.painter_at(rect.expand(1.0));
     let font = egui::FontId::monospace(11.0);
-    let small = egui::FontId::monospace(8.0);
+    let small = egui::FontId::monospace(9.5);
     let x_of = |bit: u8| {
         let from_left = high - bit;
         let mut x =
@@ -123,13 +123,14 @@ fn line(ui: &mut egui::Ui, row: &BitRow, low: u8, high: u8, p: &Palette) {
 /// A whole breakdown: what and where, its rows, the notes and the real-number line.
 pub fn breakdown(ui: &mut egui::Ui, b: &Breakdown, when: &str, p: &Palette) {
     ui.label(RichText::new(format!("{when}: line {} — {}", b.line, b.command)).strong());
-    for row in &b.rows {
-        show(ui, row, p);
+    // The arithmetic and what it loses first, the bits that show it after.
+    if let Some(real) = &b.real {
+        ui.label(RichText::new(real).monospace().color(p.written));
     }
     for note in &b.notes {
         ui.label(format!("• {note}"));
     }
-    if let Some(real) = &b.real {
-        ui.label(RichText::new(real).monospace().color(p.written));
+    for row in &b.rows {
+        show(ui, row, p);
     }
 }

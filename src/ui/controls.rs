@@ -76,6 +76,22 @@ pub fn shortcuts(
     });
 }
 
+/// Whether the `i`th shipped session of [`registry::lessons`] is a lesson with steps (read once).
+fn has_steps(i: usize) -> bool {
+    static STEPS: std::sync::OnceLock<Vec<bool>> = std::sync::OnceLock::new();
+    STEPS
+        .get_or_init(|| {
+            registry::lessons()
+                .map(|(_, name, text)| {
+                    crate::session::Session::from_ron(text, name).is_ok_and(|s| s.lesson.is_some())
+                })
+                .collect()
+        })
+        .get(i)
+        .copied()
+        .unwrap_or(false)
+}
+
 fn shortcut_text(ctx: &egui::Context, s: &KeyboardShortcut) -> String {
     ctx.format_shortcut(s)
 }
@@ -148,16 +164,22 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
                                 out.push(Command::LoadExample(i));
                             }
                         }
-                        ui.separator();
-                        ui.label(RichText::new("Lessons").weak());
-                        for (i, (dialect, name, _)) in registry::lessons().enumerate() {
-                            if dialect.name == d.name
-                                && ui
-                                    .button(name)
-                                    .on_hover_text("Opens with its program, position and steps")
-                                    .clicked()
-                            {
-                                out.push(Command::LoadLesson(i));
+                        // Lessons (with steps and checks) apart from walk-through sessions.
+                        for (heading, with_steps) in [("Lessons", true), ("Sessions", false)] {
+                            ui.separator();
+                            ui.label(RichText::new(heading).weak());
+                            for (i, (dialect, name, _)) in registry::lessons().enumerate() {
+                                if dialect.name != d.name || has_steps(i) != with_steps {
+                                    continue;
+                                }
+                                let tip = if with_steps {
+                                    "A lesson: its program, its steps and checks (Lesson panel)"
+                                } else {
+                                    "A saved debugging moment to walk through"
+                                };
+                                if ui.button(name).on_hover_text(tip).clicked() {
+                                    out.push(Command::LoadLesson(i));
+                                }
                             }
                         }
                     });

@@ -59,7 +59,12 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut HelpView) {
                 .auto_shrink([false, false])
                 .show(ui, |ui| {
                     for e in &entries {
-                        if !filter.is_empty() && !e.names.iter().any(|n| n.contains(&filter)) {
+                        // Names first; then the titles and texts (MULT_S64_SHR16 is in CLD's).
+                        if !filter.is_empty()
+                            && !e.names.iter().any(|n| n.contains(&filter))
+                            && !e.title.to_ascii_uppercase().contains(&filter)
+                            && !e.markdown.to_ascii_uppercase().contains(&filter)
+                        {
                             continue;
                         }
                         let shown = entry.is_some_and(|s| s.names == e.names);

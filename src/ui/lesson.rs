@@ -98,7 +98,9 @@ pub fn show(
             .is_some_and(|s| !s.checks.is_empty());
         if ui
             .add_enabled(has_checks, egui::Button::new("✔ Check this step"))
-            .on_hover_text("Evaluate this step's checks on the present state")
+            .on_hover_text(
+                "Evaluate this step's checks on the present state: run the program first",
+            )
             .on_disabled_hover_text("This step has no checks")
             .clicked()
         {
@@ -154,6 +156,15 @@ fn results(ui: &mut egui::Ui, debugger: &Debugger, view: &LessonView) {
         summary.push_str(" — the position has changed since: Check again");
     }
     ui.label(RichText::new(summary).strong());
+    if *at == crate::machine::Pos::default() {
+        ui.label(
+            RichText::new(
+                "Nothing has run yet: run the program (F5) or step it, then Check again. \
+                 (servoscope check runs it for you.)",
+            )
+            .color(palette.written),
+        );
+    }
     for o in outcomes {
         let (mark, colour) = if o.pass { ("✓", pass) } else { ("✗", fail) };
         let detail = o.detail();
@@ -226,7 +237,10 @@ fn edit(ui: &mut egui::Ui, debugger: &Debugger, view: &mut LessonView) {
             let Some(step) = view.lesson.steps.get_mut(view.step) else {
                 return;
             };
-            ui.label("Checks: expressions that hold once the task is done (R21 == 1016)");
+            ui.label(format!(
+                "Checks: expressions that hold once the task is done, e.g. {}",
+                debugger.dialect().vocabulary.condition_hint
+            ));
             let mut remove = None;
             for (i, check) in step.checks.iter_mut().enumerate() {
                 ui.horizontal(|ui| {
@@ -243,7 +257,10 @@ fn edit(ui: &mut egui::Ui, debugger: &Debugger, view: &mut LessonView) {
                         remove = Some(i);
                     }
                 });
-                if let Err(e) = crate::debugger::expr::Expr::compile(check, m) {
+                if let Some(e) = (!check.trim().is_empty())
+                    .then(|| crate::debugger::expr::Expr::compile(check, m).err())
+                    .flatten()
+                {
                     ui.colored_label(ui.visuals().error_fg_color, e.to_string());
                 }
             }

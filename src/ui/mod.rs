@@ -951,7 +951,10 @@ impl ServoscopeApp {
             Command::LessonReset => self.reset_lesson(),
             Command::SaveAsLesson => {
                 if self.lesson.is_none() {
-                    let title = self.debugger.name().to_string();
+                    let name = self.debugger.name();
+                    let title = Path::new(name)
+                        .file_stem()
+                        .map_or(name.to_string(), |s| s.to_string_lossy().replace('_', " "));
                     let start = self.session();
                     let mut view = lesson::LessonView::new(
                         crate::lesson::Lesson {
