@@ -46,8 +46,7 @@ pub fn shortcuts(
     let target = code.target_line(debugger);
     // Most specific first: egui ignores an extra Shift when matching the plain keys.
     // A command needing the cursor's line is skipped (its key still consumed) without one.
-    let table: [(&KeyboardShortcut, Option<Command>); 19] = [
-        (&HELP, Some(Command::OpenHelp(code.word_at_caret(debugger)))),
+    let table: [(&KeyboardShortcut, Option<Command>); 18] = [
         (&RESET, Some(Command::Reset)),
         (&STEP_BACK_INTO, Some(Command::StepBackCommand)),
         (&STEP_BACK_OUT, Some(Command::StepBackOut)),
@@ -67,13 +66,18 @@ pub fn shortcuts(
         (&STEP_TICK, Some(Command::StepTick)),
         (&TOGGLE_BREAKPOINT, target.map(Command::ToggleBreakpoint)),
     ];
-    ctx.input_mut(|i| {
+    let help = ctx.input_mut(|i| {
         for (shortcut, command) in table {
             if i.consume_shortcut(shortcut) {
                 out.extend(command);
             }
         }
+        i.consume_shortcut(&HELP)
     });
+    // The mnemonic under the caret is looked up only when F1 is pressed.
+    if help {
+        out.push(Command::OpenHelp(code.word_at_caret(debugger)));
+    }
 }
 
 /// Whether the `i`th shipped session of [`registry::lessons`] is a lesson with steps (read once).
