@@ -794,3 +794,19 @@ fn real_tml_outside_the_subset_is_named_precisely() {
         "2:6: error: MODE SP is not supported by servoscope yet"
     );
 }
+
+#[test]
+fn apos_and_aspd_answer_to_all_their_aliases() {
+    // Spec §2.1: APOS (aliases APOS_LD, APOS_MT), ASPD (aliases ASPD_MT, ASPD_LD).
+    let m = run(
+        "long a; long b; fixed c; fixed e;\nSAP 1234;\na = APOS_MT;\nb = apos_ld;\nc = ASPD_LD;\ne = ASPD_MT;\nEND;\n",
+    );
+    assert_eq!(var(&m, "a"), 1234);
+    assert_eq!(var(&m, "b"), 1234);
+    assert_eq!(m.find("APOS_MT"), m.find("APOS"));
+    assert_eq!(m.find("aspd_ld"), m.find("ASPD"));
+    assert!(
+        !errors("int apos_mt;\nEND;\n").is_empty(),
+        "a TML name, not a variable"
+    );
+}

@@ -325,6 +325,7 @@ struct Names<'a> {
 }
 
 fn predefined(name: &str) -> Option<u8> {
+    let name = super::canonical_name(name);
     PREDEFINED
         .iter()
         .position(|p| {

@@ -66,6 +66,18 @@ pub const PREDEFINED: &[Predefined] = &[
     pre("PRODH", None, Ty::Long, false, "bits 47..16 of the product register"),
 ];
 
+/// Aliases beyond the one each datum shows (spec §2.1: APOS is also APOS_MT, ASPD also
+/// ASPD_LD), with the name they stand for.
+pub const MORE_ALIASES: &[(&str, &str)] = &[("APOS_MT", "APOS"), ("ASPD_LD", "ASPD")];
+
+/// `name` with an alias of [`MORE_ALIASES`] replaced by the datum's name (any case).
+pub fn canonical_name(name: &str) -> &str {
+    MORE_ALIASES
+        .iter()
+        .find(|(alias, _)| alias.eq_ignore_ascii_case(name.trim()))
+        .map_or(name, |&(_, to)| to)
+}
+
 const fn pre(
     name: &'static str,
     alias: Option<&'static str>,

@@ -17,7 +17,10 @@ fn class_of_word(word: &str) -> TokenClass {
     } else if upper == "PREG"
         || PREDEFINED
             .iter()
-            .any(|p| p.name == upper || p.alias == Some(upper.as_str()))
+            .any(|p| {
+                let name = super::canonical_name(&upper);
+                p.name == name || p.alias == Some(name)
+            })
     {
         TokenClass::Location
     } else {

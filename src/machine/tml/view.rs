@@ -328,7 +328,7 @@ impl MachineView for Tml {
         {
             return (n < INPUTS).then(|| Loc::new(INPUT, n as u32));
         }
-        find_by_name(self, name)
+        find_by_name(self, super::canonical_name(name))
     }
     fn used(&self) -> Vec<Loc> {
         let p = &self.program;
