@@ -170,6 +170,39 @@ fn drawing_switch(ui: &mut egui::Ui, now: Drawing, by_use: Drawing) -> Option<Dr
     chosen
 }
 
+/// `3 / 4 used`, with FULL or EMPTY when the pointers meet.
+fn used_text(h: &QueueHeader) -> String {
+    let state = if h.len == h.size {
+        " FULL"
+    } else if h.len == 0 {
+        " EMPTY"
+    } else {
+        ""
+    };
+    format!("{} / {} used{state}", h.len, h.size)
+}
+
+/// What the last command did to this queue, and at which slot.
+fn last_access(ui: &mut egui::Ui, h: &QueueHeader, access: Option<&QueueAccess>, p: &Palette) {
+    let Some(a) = access else {
+        return;
+    };
+    let text = match (a.ok, a.slot) {
+        (true, Some(slot)) => format!(
+            "last: {} at slot {slot} (R{})",
+            a.action,
+            h.first_slot_register + slot
+        ),
+        (true, None) => format!("last: {}", a.action),
+        (false, _) => format!(
+            "last: {} FAILED ({})",
+            a.action,
+            a.failure.unwrap_or("error")
+        ),
+    };
+    ui.label(RichText::new(text).color(if a.ok { p.written } else { p.error }));
+}
+
 /// A queue used as a stack: a column with the top (the newest value, the next pop) first, the
 /// free slots above it, each value with its register.
 fn stack(
@@ -184,25 +217,11 @@ fn stack(
     let end = if top_at_head { "head" } else { "tail" };
     ui.horizontal_wrapped(|ui| {
         ui.strong(format!("{name} as a stack"));
-        let state = if h.len == h.size {
-            " FULL"
-        } else if h.len == 0 {
-            " EMPTY"
-        } else {
-            ""
-        };
-        ui.label(format!("{} / {} used{state}", h.len, h.size));
+        ui.label(used_text(h));
         ui.label(RichText::new(format!("top at the {end}")).color(p.dim));
         switch(ui);
     });
-    if let Some(a) = access {
-        let text = if a.ok {
-            format!("last: {}", a.action)
-        } else {
-            format!("last: {} FAILED ({})", a.action, a.failure.unwrap_or("error"))
-        };
-        ui.label(RichText::new(text).color(if a.ok { p.written } else { p.error }));
-    }
+    last_access(ui, h, access, p);
     // Items run tail (oldest) to head (newest); the top is the newest end when pushing at the
     // head, the tail end otherwise.
     let mut order: Vec<usize> = (0..h.len).map(|i| (h.tail + i) % h.size).collect();
@@ -293,14 +312,7 @@ fn queue(
     };
     ui.horizontal_wrapped(|ui| {
         ui.strong(&name);
-        let state = if h.len == h.size {
-            " FULL"
-        } else if h.len == 0 {
-            " EMPTY"
-        } else {
-            ""
-        };
-        ui.label(format!("{} / {} used{state}", h.len, h.size));
+        ui.label(used_text(h));
         ui.label(
             RichText::new(format!(
                 "slots R{}–R{}",
@@ -311,22 +323,7 @@ fn queue(
         );
         switch(ui);
     });
-    if let Some(a) = access {
-        let text = match (a.ok, a.slot) {
-            (true, Some(slot)) => format!(
-                "last: {} at slot {slot} (R{})",
-                a.action,
-                h.first_slot_register + slot
-            ),
-            (true, None) => format!("last: {}", a.action),
-            (false, _) => format!(
-                "last: {} FAILED ({})",
-                a.action,
-                a.failure.unwrap_or("error")
-            ),
-        };
-        ui.label(RichText::new(text).color(if a.ok { p.written } else { p.error }));
-    }
+    last_access(ui, h, access, p);
     let picture = |ui: &mut egui::Ui, ring_room: f32| {
         if h.size <= MAX_RING_SLOTS {
             ring(ui, &name, h, access, p, ring_room);
