@@ -53,7 +53,7 @@ fn benches(c: &mut Criterion) {
                 let checker = RefCell::new(Checker::new(
                     &list,
                     engine.machine(),
-                    ARITHMETIC.lines().count(),
+                    &[ARITHMETIC.lines().count()],
                 ));
                 let stop = StopWhen {
                     checker: (!checker.borrow().is_empty()).then_some(&checker),

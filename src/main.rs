@@ -193,14 +193,14 @@ struct Start {
     dialect: &'static Dialect,
     name: String,
     path: Option<PathBuf>,
-    source: String,
+    /// The program's files, the top file first.
+    project: servoscope::machine::project::Project,
     settings: Settings,
     /// Session events by name (resolved once the program is assembled).
     session: Option<Session>,
 }
 
 fn read_start(file: &Path, dialect: Option<&str>) -> Result<Start, String> {
-    let name = file.display().to_string();
     if is_session_path(file) {
         let session = Session::load(file).map_err(|e| e.to_string())?;
         if let Some(d) = dialect
@@ -215,21 +215,19 @@ fn read_start(file: &Path, dialect: Option<&str>) -> Result<Start, String> {
             dialect: session.dialect(),
             name: session.program_name.clone(),
             path: session.program_path.clone(),
-            source: session.program.clone(),
+            project: session.project(),
             settings: session.settings.clone(),
             session: Some(session),
         });
     }
     let dialect = registry::choose(file, dialect).map_err(|e| e.to_string())?;
-    let source = servoscope::text::read(file).map_err(|e| e.to_string())?;
-    let short = file
-        .file_name()
-        .map_or(name.clone(), |n| n.to_string_lossy().into_owned());
+    let project = dialect.load(file).map_err(|e| e.to_string())?;
+    let short = project.top_name().to_string();
     Ok(Start {
         dialect,
         name: short,
         path: Some(file.to_path_buf()),
-        source,
+        project,
         settings: dialect.default_settings(),
         session: None,
     })
@@ -318,7 +316,7 @@ fn run(args: &RunArgs) -> Result<u8, String> {
             until,
         };
         let (done, broke, error) =
-            runner::run_engine_probed(engine.as_ref(), &events, max_ticks, &start.source, probe);
+            runner::run_engine_probed(engine.as_ref(), &events, max_ticks, &start.project, probe);
         if let (Some(e), Some(path)) = (error, trace) {
             return Err(format!("cannot write {}: {e}", path.display()));
         }
@@ -327,6 +325,7 @@ fn run(args: &RunArgs) -> Result<u8, String> {
     let report = Report {
         dialect: start.dialect,
         machine: done.machine(),
+        project: Some(&start.project),
         broke,
     };
     if let Some(out) = save_session {
@@ -334,7 +333,8 @@ fn run(args: &RunArgs) -> Result<u8, String> {
             dialect: start.dialect,
             program_name: &start.name,
             program_path: start.path.clone(),
-            program: &start.source,
+            program: start.project.top_text(),
+            files: start.project.files.get(1..).unwrap_or_default(),
             settings: &settings,
             machine: done.machine(),
             events: &events,
@@ -372,7 +372,7 @@ fn open_engine(
     settings: &Settings,
     name: &str,
 ) -> Result<Box<dyn servoscope::debugger::Engine>, String> {
-    match (start.dialect.open)(&start.source, settings) {
+    match start.dialect.open_program(&start.project, settings) {
         Ok(engine) => {
             for d in engine
                 .machine()
@@ -380,13 +380,13 @@ fn open_engine(
                 .iter()
                 .take(MAX_DIAGNOSTICS_SHOWN)
             {
-                say(&d.with_file(name).to_string());
+                say(&start.project.diagnostic(name, d));
             }
             Ok(engine)
         }
         Err(diagnostics) => {
             for d in diagnostics.iter().take(MAX_DIAGNOSTICS_SHOWN) {
-                say(&d.with_file(name).to_string());
+                say(&start.project.diagnostic(name, d));
             }
             if diagnostics.len() > MAX_DIAGNOSTICS_SHOWN {
                 let more = diagnostics.len() - MAX_DIAGNOSTICS_SHOWN;
@@ -432,9 +432,12 @@ fn ladder(args: &LadderArgs) -> Result<(), String> {
     }
     let done = runner::run_engine(engine.as_ref(), &events, args.max_ticks.unwrap_or(0));
     let m = done.machine();
-    let diagram =
-        servoscope::machine::plc::ladder::with_comments(m, &start.source, start.dialect.classify)
-            .ok_or_else(|| format!("{name}: no ladder diagram"))?;
+    let diagram = servoscope::machine::plc::ladder::with_comments(
+        m,
+        start.project.top_text(),
+        start.dialect.classify,
+    )
+    .ok_or_else(|| format!("{name}: no ladder diagram"))?;
     let title = format!("{} — after {} scan(s)", start.name, m.ticks());
     let svg = servoscope::machine::plc::ladder::svg_of(m, &diagram, &title);
     servoscope::atomic::write_atomically(&args.svg, |w| w.write_all(svg.as_bytes()))
@@ -451,7 +454,7 @@ fn check(args: &CheckArgs) -> Result<u8, String> {
         ));
     };
     let dialect = session.dialect();
-    let (name, source) = match &args.program {
+    let (name, project) = match &args.program {
         Some(path) => {
             if let Some(by_extension) = registry::by_path(path)
                 && by_extension != dialect
@@ -463,16 +466,16 @@ fn check(args: &CheckArgs) -> Result<u8, String> {
                     dialect.display_name
                 ));
             }
-            let source = servoscope::text::read(path).map_err(|e| e.to_string())?;
-            (path.display().to_string(), source)
+            let project = dialect.load(path).map_err(|e| e.to_string())?;
+            (path.display().to_string(), project)
         }
-        None => (session.program_name.clone(), session.program.clone()),
+        None => (session.program_name.clone(), session.project()),
     };
     let start = Start {
         dialect,
         name: name.clone(),
         path: args.program.clone(),
-        source,
+        project,
         settings: session.settings.clone(),
         session: None,
     };
@@ -489,6 +492,7 @@ fn check(args: &CheckArgs) -> Result<u8, String> {
     let report = Report {
         dialect,
         machine: done.machine(),
+        project: Some(&start.project),
         broke: None,
     };
     let outcomes = servoscope::lesson::evaluate_all(&lesson, done.machine());

@@ -8,6 +8,7 @@ use std::fmt::Write as _;
 use crate::debugger::Engine;
 use crate::debugger::expr::Expr;
 use crate::debugger::history::{self, Change, UserEvent};
+use crate::machine::project::Project;
 use crate::machine::registry::{AtLimit, Dialect};
 use crate::machine::{Loc, Machine, MachineView, Pos, RunState, SpaceKind, StopReason, value};
 
@@ -221,6 +222,9 @@ pub struct BreakHit {
 pub struct Report<'a> {
     pub dialect: &'a Dialect,
     pub machine: &'a dyn MachineView,
+    /// The program's files: positions in a program of several files name their file (spec
+    /// tml.md §9); a one-file program reports lines alone, as it always did.
+    pub project: Option<&'a Project>,
     /// The run stopped because `--break` came true.
     pub broke: Option<BreakHit>,
 }
@@ -251,10 +255,24 @@ impl Report<'_> {
         }
     }
 
+    /// The project when it has several files.
+    fn files(&self) -> Option<&Project> {
+        self.project.filter(|p| p.is_multi())
+    }
+
     /// One JSON object: the common header, then the dialect's fields.
     pub fn to_json(&self) -> String {
         let m = self.machine;
-        let fault = serde_json::to_string(&m.fault()).unwrap_or_else(|_| "null".to_string());
+        let fault = match (m.fault(), self.files()) {
+            (Some(f), Some(p)) => format!(
+                "{{\"kind\":{},\"message\":{},\"line\":{},\"file\":{}}}",
+                json_string(f.kind),
+                json_string(&f.message),
+                Project::split(f.line).1,
+                json_string(p.file_of(f.line))
+            ),
+            (f, _) => serde_json::to_string(&f).unwrap_or_else(|_| "null".to_string()),
+        };
         let fields = m.report_json();
         let mut out = format!(
             "{{\"dialect\":\"{}\",\"status\":\"{}\",\"ticks\":{},\"steps\":{},\"fault\":{fault}",
@@ -266,11 +284,13 @@ impl Report<'_> {
         if let Some(b) = &self.broke {
             let _ = write!(
                 out,
-                ",\"break\":{{\"expr\":{},\"tick\":{},\"step\":{},\"line\":{}}}",
+                ",\"break\":{{\"expr\":{},\"tick\":{},\"step\":{},\"line\":{}{}}}",
                 json_string(&b.expr),
                 b.at.tick,
                 b.at.step,
-                b.line.map_or_else(|| "null".to_string(), |l| l.to_string())
+                b.line
+                    .map_or_else(|| "null".to_string(), |l| Project::split(l).1.to_string()),
+                file_field(self.files(), b.line)
             );
         }
         if !fields.is_empty() {
@@ -294,13 +314,23 @@ impl Report<'_> {
             m.ticks() as f64 * f64::from(m.tick_micros()) / 1000.0,
             m.steps()
         );
+        let describe = |line: usize| match self.files() {
+            Some(p) => p.describe(line),
+            None => line.to_string(),
+        };
         if let Some(f) = m.fault() {
-            let _ = writeln!(out, "fault: {} at line {}: {}", f.kind, f.line, f.message);
+            let _ = writeln!(
+                out,
+                "fault: {} at line {}: {}",
+                f.kind,
+                describe(f.line),
+                f.message
+            );
         }
         if let Some(b) = &self.broke {
             let line = b
                 .line
-                .map_or_else(String::new, |l| format!(", before line {l}"));
+                .map_or_else(String::new, |l| format!(", before line {}", describe(l)));
             let _ = writeln!(out, "break: {} at {}{line}", b.expr, b.at);
         }
         out.push_str(&m.report_text());
@@ -314,6 +344,14 @@ pub fn run_engine(engine: &dyn Engine, events: &[UserEvent], max_ticks: u64) -> 
     let mut run = engine.restarted(Vec::new(), Vec::new());
     run.run_headless(events, max_ticks);
     run
+}
+
+/// `,"file":"name"` for a line of a program of several files, else nothing.
+fn file_field(files: Option<&Project>, line: Option<usize>) -> String {
+    match (files, line) {
+        (Some(p), Some(l)) => format!(",\"file\":{}", json_string(p.file_of(l))),
+        _ => String::new(),
+    }
 }
 
 fn json_string(text: &str) -> String {
@@ -350,16 +388,26 @@ pub fn mnemonic(line: &str) -> &str {
 /// One `--trace` line: the executed instruction's start position, its line and mnemonic, the
 /// locations it wrote with their new values (what the instruction wrote, flags included, not
 /// what a motion model drove in the same tick), and its explanation.
-fn trace_line(m: &dyn MachineView, n: u64, started: Pos, source: &[&str]) -> String {
+fn trace_line(
+    m: &dyn MachineView,
+    n: u64,
+    started: Pos,
+    source: &[Vec<&str>],
+    files: Option<&Project>,
+) -> String {
     let line = m.last_line();
     let word = line
-        .and_then(|l| source.get(l.wrapping_sub(1)))
+        .and_then(|l| {
+            let (file, local) = Project::split(l);
+            source.get(file)?.get(local.wrapping_sub(1))
+        })
         .map_or("", |text| mnemonic(text));
     let mut out = format!(
-        "{{\"n\":{n},\"tick\":{},\"step\":{},\"line\":{},\"mnemonic\":{},\"written\":{{",
+        "{{\"n\":{n},\"tick\":{},\"step\":{},\"line\":{}{},\"mnemonic\":{},\"written\":{{",
         started.tick,
         started.step,
-        line.map_or_else(|| "null".to_string(), |l| l.to_string()),
+        line.map_or_else(|| "null".to_string(), |l| Project::split(l).1.to_string()),
+        file_field(files, line),
         json_string(word),
     );
     let mut first = true;
@@ -389,11 +437,16 @@ pub fn run_engine_probed(
     engine: &dyn Engine,
     events: &[UserEvent],
     max_ticks: u64,
-    source: &str,
+    project: &Project,
     mut probe: Probe<'_>,
 ) -> (Box<dyn Engine>, Option<BreakHit>, Option<std::io::Error>) {
     let mut run = engine.restarted(Vec::new(), Vec::new());
-    let lines: Vec<&str> = source.lines().collect();
+    let lines: Vec<Vec<&str>> = project
+        .files
+        .iter()
+        .map(|f| f.text.lines().collect())
+        .collect();
+    let files = project.is_multi().then_some(project);
     let mut seen = run.machine().steps();
     let mut started = run.machine().pos();
     let mut error = None;
@@ -405,7 +458,8 @@ pub fn run_engine_probed(
      -> bool {
         if m.steps() > *seen {
             if let Some(w) = out.as_mut()
-                && let Err(e) = w.write_all(trace_line(m, m.steps(), *started, &lines).as_bytes())
+                && let Err(e) =
+                    w.write_all(trace_line(m, m.steps(), *started, &lines, files).as_bytes())
             {
                 error = Some(e);
                 return false;

@@ -20,11 +20,16 @@ use serde::{Deserialize, Serialize};
 
 use crate::debugger::history::{Change, MarkKind, UserEvent};
 use crate::debugger::{ChannelChoice, Debugger, Speed};
+use crate::machine::project::{Project, SourceFile};
 use crate::machine::registry::{self, Dialect, Settings};
 use crate::machine::{Format, MachineView, Pos};
 
-/// The session format this build writes.
-pub const FORMAT_VERSION: u32 = 2;
+/// The newest session format this build reads and writes. Format 3 adds the files of a program
+/// of several files (`files`, `file_breakpoints`); a one-file program is still written as
+/// format 2, which older builds read.
+pub const FORMAT_VERSION: u32 = 3;
+/// The format of a session whose program is one file.
+pub const SINGLE_FILE_FORMAT: u32 = 2;
 /// The furthest tick a session may ask to replay to: 10^9 ticks (33 hours of servo time,
 /// seconds to a minute of replay). Beyond it a damaged or hostile file could freeze the window.
 pub const MAX_REPLAY_TICKS: u64 = 1_000_000_000;
@@ -39,8 +44,18 @@ pub struct Session {
     pub program_name: String,
     /// Where the program was loaded from, if from a file.
     pub program_path: Option<PathBuf>,
-    /// The program text itself, so a session opens anywhere.
+    /// The program text itself, so a session opens anywhere (the top file's, for a program of
+    /// several files).
     pub program: String,
+    /// Format 3: the files the top file includes, in order of first inclusion, each with its
+    /// name relative to the top file's directory and its text.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub files: Vec<SourceFile>,
+    /// Format 3: plain line breakpoints in the included files, by file name and line
+    /// (`breakpoints` holds the top file's). In `breakpoint_list`, a line of an included file
+    /// is its program line: file k of `[top] + files` has lines k × 1048576 + line.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub file_breakpoints: Vec<(String, usize)>,
     /// The lines of plain line breakpoints (what every format-2 reader understands).
     pub breakpoints: Vec<usize>,
     /// Every breakpoint in the list's order, with conditions, hit counts, log points, data
@@ -387,6 +402,8 @@ pub struct Recorded<'a> {
     pub program_name: &'a str,
     pub program_path: Option<PathBuf>,
     pub program: &'a str,
+    /// The included files of a program of several files (empty for one file).
+    pub files: &'a [SourceFile],
     pub settings: &'a Settings,
     pub machine: &'a dyn MachineView,
     pub events: &'a [UserEvent],
@@ -396,11 +413,16 @@ impl Session {
     /// A session of a recorded run, at the machine's position (the runner's `--save-session`).
     pub fn of_run(run: Recorded<'_>) -> Self {
         Session {
-            format: FORMAT_VERSION,
+            format: if run.files.is_empty() {
+                SINGLE_FILE_FORMAT
+            } else {
+                FORMAT_VERSION
+            },
             dialect: run.dialect.name.to_string(),
             program_name: run.program_name.to_string(),
             program_path: run.program_path,
             program: run.program.to_string(),
+            files: run.files.to_vec(),
             settings: run.settings.clone(),
             events: named_events(run.machine, run.events),
             at: run.machine.pos(),
@@ -433,22 +455,34 @@ impl Session {
     ) -> Self {
         let defaults = ChannelChoice::defaults(debugger.dialect());
         let channels = debugger.channel_choices();
+        let included = debugger.project().files.get(1..).unwrap_or_default();
         let run = Session::of_run(Recorded {
             dialect: debugger.dialect(),
             program_name: debugger.name(),
             program_path,
             program,
+            files: included,
             settings: debugger.settings(),
             machine: debugger.machine(),
             events: debugger.events(),
         });
         let list = debugger.breakpoint_list();
         let all_plain = list.iter().all(crate::debugger::Breakpoint::is_plain);
+        let plain = list
+            .iter()
+            .filter(|b| b.is_plain())
+            .filter_map(crate::debugger::Breakpoint::line_number);
+        let project = debugger.project();
         Session {
-            breakpoints: list
-                .iter()
-                .filter(|b| b.is_plain())
-                .filter_map(crate::debugger::Breakpoint::line_number)
+            breakpoints: plain
+                .clone()
+                .filter(|&l| Project::split(l).0 == 0)
+                .collect(),
+            file_breakpoints: plain
+                .filter_map(|l| {
+                    let (file, local) = Project::split(l);
+                    (file > 0).then(|| (project.file_of(l).to_string(), local))
+                })
                 .collect(),
             breakpoint_list: if all_plain { Vec::new() } else { list.to_vec() },
             watches: debugger.watches().to_vec(),
@@ -539,16 +573,28 @@ impl Session {
             path: path.to_string(),
             reason,
         };
-        if self.program.len() > crate::text::MAX_FILE_BYTES {
+        if self.program.len() > crate::text::MAX_FILE_BYTES
+            || self
+                .files
+                .iter()
+                .any(|f| f.text.len() > crate::text::MAX_FILE_BYTES)
+        {
             return Err(refuse(format!(
-                "its program has {} bytes; servoscope opens programs of at most {}",
-                self.program.len(),
+                "a file of its program has more than {} bytes, the most servoscope opens",
                 crate::text::MAX_FILE_BYTES
+            )));
+        }
+        if self.files.len() >= crate::machine::project::MAX_FILES {
+            return Err(refuse(format!(
+                "its program has {} files; servoscope opens programs of at most {}",
+                self.files.len() + 1,
+                crate::machine::project::MAX_FILES
             )));
         }
         let counts = [
             ("breakpoints", self.breakpoints.len(), limits::LIST),
             ("breakpoints", self.breakpoint_list.len(), limits::LIST),
+            ("breakpoints", self.file_breakpoints.len(), limits::LIST),
             ("watches", self.watches.len(), limits::LIST),
             ("register formats", self.view.formats.len(), limits::LIST),
             ("edits", self.events.len(), limits::EVENTS),
@@ -579,6 +625,8 @@ impl Session {
             }
         }
         let texts = std::iter::once(self.program_name.as_str())
+            .chain(self.files.iter().map(|f| f.name.as_str()))
+            .chain(self.file_breakpoints.iter().map(|(f, _)| f.as_str()))
             .chain(self.breakpoint_list.iter().flat_map(|b| {
                 let location = match &b.kind {
                     crate::debugger::BreakKind::Data { location, .. } => location.as_str(),
@@ -623,8 +671,16 @@ impl Session {
                 )));
             }
         }
-        let last = self.program.lines().count();
-        let past = |line: usize| line > last;
+        let project = self.project();
+        let counts: Vec<usize> = project
+            .files
+            .iter()
+            .map(|f| f.text.lines().count())
+            .collect();
+        let past = |line: usize| {
+            let (file, local) = Project::split(line);
+            local > counts.get(file).copied().unwrap_or(0)
+        };
         let mut dropped: Vec<usize> = self
             .breakpoints
             .iter()
@@ -639,11 +695,42 @@ impl Session {
             }
             _ => true,
         });
+        let mut unknown = Vec::new();
+        self.file_breakpoints.retain(|(name, line)| {
+            match project.index_of(name).filter(|&f| f > 0) {
+                Some(f) if !past(Project::line(f, *line)) => true,
+                Some(f) => {
+                    dropped.push(Project::line(f, *line));
+                    false
+                }
+                None => {
+                    unknown.push(format!("{name}:{line}"));
+                    false
+                }
+            }
+        });
         dropped.sort_unstable();
         dropped.dedup();
         for line in dropped {
+            let (file, _) = Project::split(line);
+            self.warnings
+                .push(if project.is_multi() && file < counts.len() {
+                    format!(
+                        "the breakpoint on line {} was dropped: {} has {} lines",
+                        project.describe(line),
+                        project.file_of(line),
+                        counts[file]
+                    )
+                } else {
+                    format!(
+                        "the breakpoint on line {line} was dropped: the program has {} lines",
+                        counts.first().copied().unwrap_or(0)
+                    )
+                });
+        }
+        for at in unknown {
             self.warnings.push(format!(
-                "the breakpoint on line {line} was dropped: the program has {last} lines"
+                "the breakpoint at {at} was dropped: the program has no such file"
             ));
         }
         let last_plot = crate::debugger::trace::PLOT_GROUPS - 1;
@@ -704,6 +791,40 @@ impl Session {
                 source,
             }
         })
+    }
+
+    /// The program's files: the top file (`program_name`, `program`), then `files`.
+    pub fn project(&self) -> Project {
+        let mut project = Project::single(self.program_name.clone(), self.program.clone());
+        project.files.extend(self.files.iter().cloned());
+        project
+    }
+
+    /// The files of the session's program that differ from the files on disk next to
+    /// `program_path` (or are missing there): the session's copies are the ones used.
+    pub fn changed_on_disk(&self) -> Vec<String> {
+        let Some(top) = &self.program_path else {
+            return Vec::new();
+        };
+        if self.files.is_empty() {
+            return Vec::new();
+        }
+        let dir = top.parent().map(Path::to_path_buf).unwrap_or_default();
+        self.project()
+            .files
+            .iter()
+            .enumerate()
+            .filter(|(k, f)| {
+                let path = if *k == 0 {
+                    top.clone()
+                } else {
+                    dir.join(&f.name)
+                };
+                crate::text::read(&path)
+                    .map_or(true, |disk| disk != crate::text::normalize(&f.text))
+            })
+            .map(|(_, f)| f.name.clone())
+            .collect()
     }
 
     /// The session's dialect (checked when the file was read).
@@ -784,15 +905,25 @@ impl Session {
                 .unwrap_or_default(),
             count: diags.len(),
         };
-        let probe = (dialect.open)(&self.program, &dialect.settings_from(&self.settings))
+        let project = self.project();
+        let probe = dialect
+            .open_program(&project, &dialect.settings_from(&self.settings))
             .map_err(program_error)?;
         let events = self.user_events(probe.machine(), path)?;
+        let breakpoints: Vec<usize> =
+            self.breakpoints
+                .iter()
+                .copied()
+                .chain(self.file_breakpoints.iter().filter_map(|(name, line)| {
+                    project.index_of(name).map(|f| Project::line(f, *line))
+                }))
+                .collect();
         let mut debugger = Debugger::restore(
             dialect,
             self.program_name.clone(),
-            self.program.clone(),
+            project,
             &self.settings,
-            self.breakpoints.iter().copied(),
+            breakpoints,
             self.channels.clone(),
             events,
             Pos::default(),

@@ -471,7 +471,7 @@ fn data_stops<M: Machine>(
         breakpoint.clone(),
         servoscope::debugger::Breakpoint::line(line).with_condition("R25 % 3 != 1"),
     ];
-    let checker = std::cell::RefCell::new(Checker::new(&list, &t.machine, usize::MAX));
+    let checker = std::cell::RefCell::new(Checker::new(&list, &t.machine, &[usize::MAX]));
     let (lines, guarded) = checker.borrow().quiet_plan();
     let mut out = Vec::new();
     for _ in 0..8 {

@@ -143,7 +143,7 @@ pub enum BreakError {
     Message(ExprError),
     #[error("there is no location named '{0}'")]
     Location(String),
-    #[error("line {line} is past the program's last line ({last})")]
+    #[error("line {line} is past the last line of its file ({last})")]
     PastEnd { line: usize, last: usize },
 }
 
@@ -188,7 +188,9 @@ struct DataCheck {
 pub struct Checker {
     compiled: Vec<Option<Compiled>>,
     /// Line breakpoints by line (index = line): indices into `compiled`.
-    by_line: Vec<Vec<usize>>,
+    /// Breakpoint indexes by program line (a map: a project's lines are sparse, see
+    /// [`crate::machine::project`]).
+    by_line: std::collections::BTreeMap<usize, Vec<usize>>,
     data: Vec<DataCheck>,
     hits: Vec<u64>,
     /// Going back: no counts, no log points.
@@ -202,14 +204,13 @@ pub struct Checker {
 }
 
 impl Checker {
-    /// Compile `breakpoints` against `m`'s program of `lines` source lines. A breakpoint whose
-    /// condition, message or location does not compile, or whose line is past the last one,
-    /// is inactive and its error is kept (the per-line table is sized by the program, never by
-    /// a number a user or a file gave).
-    pub fn new(breakpoints: &[Breakpoint], m: &dyn MachineView, lines: usize) -> Checker {
+    /// Compile `breakpoints` against `m`'s program, whose files have `lines[f]` source lines. A
+    /// breakpoint whose condition, message or location does not compile, or whose line is
+    /// past its file's last one, is inactive and its error is kept.
+    pub fn new(breakpoints: &[Breakpoint], m: &dyn MachineView, lines: &[usize]) -> Checker {
         let mut c = Checker {
             compiled: Vec::new(),
-            by_line: Vec::new(),
+            by_line: Default::default(),
             data: Vec::new(),
             hits: vec![0; breakpoints.len()],
             backward: false,
@@ -220,8 +221,19 @@ impl Checker {
         };
         for (index, b) in breakpoints.iter().enumerate() {
             let compiled = match b.kind {
-                BreakKind::Line(line) if line > lines => {
-                    Err(BreakError::PastEnd { line, last: lines })
+                BreakKind::Line(line) => {
+                    let (file, local) = crate::machine::project::Project::split(line);
+                    match lines.get(file) {
+                        Some(&last) if local > last => {
+                            Err(BreakError::PastEnd { line: local, last })
+                        }
+                        Some(_) => compile(b, m),
+                        // No such file: past the end of the program's last line.
+                        None => Err(BreakError::PastEnd {
+                            line,
+                            last: lines.first().copied().unwrap_or(0),
+                        }),
+                    }
                 }
                 _ => compile(b, m),
             };
@@ -232,12 +244,7 @@ impl Checker {
             c.errors.push(error);
             if b.enabled && compiled.is_some() {
                 match &b.kind {
-                    BreakKind::Line(l) => {
-                        if c.by_line.len() <= *l {
-                            c.by_line.resize_with(l + 1, Vec::new);
-                        }
-                        c.by_line[*l].push(index);
-                    }
+                    BreakKind::Line(l) => c.by_line.entry(*l).or_default().push(index),
                     BreakKind::Data { location, trigger } => {
                         if let Some(loc) = m.find(location)
                             && let Some(info) = m.info(loc)
@@ -262,7 +269,7 @@ impl Checker {
     }
 
     /// A checker for going back: the same breakpoints, ignoring hit counts and log points.
-    pub fn backward(breakpoints: &[Breakpoint], m: &dyn MachineView, lines: usize) -> Checker {
+    pub fn backward(breakpoints: &[Breakpoint], m: &dyn MachineView, lines: &[usize]) -> Checker {
         let mut c = Checker::new(breakpoints, m, lines);
         c.backward = true;
         c
@@ -272,8 +279,11 @@ impl Checker {
     /// data breakpoints' locations (until one is written, a data breakpoint cannot fire: its
     /// value and "written" stay as they were).
     pub fn quiet_plan(&self) -> (Vec<usize>, Vec<Loc>) {
-        let lines = (0..self.by_line.len())
-            .filter(|&l| !self.by_line[l].is_empty())
+        let lines = self
+            .by_line
+            .iter()
+            .filter(|(_, at)| !at.is_empty())
+            .map(|(&l, _)| l)
             .collect();
         (lines, self.data.iter().map(|d| d.loc).collect())
     }
@@ -332,7 +342,7 @@ impl Checker {
 
     /// Whether a line breakpoint could stop on `line` (the gutter, quick tests).
     pub fn watches_line(&self, line: usize) -> bool {
-        self.by_line.get(line).is_some_and(|v| !v.is_empty())
+        self.by_line.get(&line).is_some_and(|v| !v.is_empty())
     }
 
     /// Asked at every instruction boundary: whether to stop here. Counts hits, writes log
@@ -348,9 +358,9 @@ impl Checker {
         let Some(line) = m.pc_line() else {
             return false;
         };
-        let count = self.by_line.get(line).map_or(0, Vec::len);
+        let count = self.by_line.get(&line).map_or(0, Vec::len);
         for k in 0..count {
-            let index = self.by_line[line][k];
+            let index = self.by_line[&line][k];
             if self.fire(index, m, line, None) {
                 return true;
             }

@@ -29,6 +29,7 @@ pub use lines::remap_lines;
 pub use run::{BACK_TICKS_AT_ONCE, Event, Goal, Speed};
 pub use watch::Watch;
 
+use crate::machine::project::{Project, SourceFile};
 use crate::machine::registry::{self, Dialect, Settings};
 use crate::machine::{Diagnostic, Format, Loc, MachineView, Pos, StopReason, value};
 use breakpoints::Checker;
@@ -49,9 +50,10 @@ pub const REPLAY_SLICE: u64 = 1 << 20;
 pub struct Debugger {
     dialect: &'static Dialect,
     name: String,
-    source: String,
-    /// The text the current program was assembled from.
-    assembled_source: String,
+    /// The program's files, the top file first (one for most programs).
+    project: Project,
+    /// The files the current program was assembled from.
+    assembled: Project,
     diagnostics: Vec<Diagnostic>,
     settings: Settings,
     engine: Box<dyn Engine>,
@@ -125,6 +127,16 @@ impl ChannelChoice {
             })
             .collect()
     }
+}
+
+/// `project` with every file's line endings and byte-order mark normalized.
+fn normalized(mut project: Project) -> Project {
+    for f in &mut project.files {
+        if let std::borrow::Cow::Owned(text) = crate::text::normalize(&f.text) {
+            f.text = text;
+        }
+    }
+    project
 }
 
 /// A number no other timeline of this process has had.
@@ -231,14 +243,29 @@ impl Debugger {
         name: impl Into<String>,
         source: impl Into<String>,
     ) -> Self {
+        let name = name.into();
+        let project = Project::single(
+            name.clone(),
+            crate::text::normalize(&source.into()).into_owned(),
+        );
+        Debugger::on_project(dialect, name, project)
+    }
+
+    /// A debugger on a program of several files (the top file first).
+    pub fn with_project(dialect: &'static Dialect, project: Project) -> Self {
+        let name = project.top_name().to_string();
+        Debugger::on_project(dialect, name, normalized(project))
+    }
+
+    fn on_project(dialect: &'static Dialect, name: String, project: Project) -> Self {
         let settings = dialect.default_settings();
         let engine = empty_engine(dialect, &settings);
-        let checker = RefCell::new(Checker::new(&[], engine.machine(), 0));
+        let checker = RefCell::new(Checker::new(&[], engine.machine(), &[]));
         let mut d = Debugger {
             dialect,
-            name: name.into(),
-            source: crate::text::normalize(&source.into()).into_owned(),
-            assembled_source: String::new(),
+            name,
+            project,
+            assembled: Project::default(),
             diagnostics: Vec::new(),
             engine,
             settings,
@@ -275,19 +302,25 @@ impl Debugger {
     pub fn restore(
         dialect: &'static Dialect,
         name: impl Into<String>,
-        source: impl Into<String>,
+        project: impl Into<Project>,
         settings: &Settings,
         breakpoints: impl IntoIterator<Item = usize>,
         channels: Option<Vec<ChannelChoice>>,
         events: Vec<UserEvent>,
         furthest: Pos,
     ) -> Result<Debugger, Vec<Diagnostic>> {
-        let source = source.into();
+        let name = name.into();
+        let mut project = normalized(project.into());
+        if !project.is_multi()
+            && let Some(top) = project.files.first_mut()
+        {
+            top.name = name.clone();
+        }
         let settings = dialect.settings_from(settings);
-        let engine = (dialect.open)(&source, &settings)?;
+        let engine = dialect.open_program(&project, &settings)?;
         let mut d = Debugger::with_dialect(dialect, name, dialect.empty_program);
-        d.assembled_source = source.clone();
-        d.source = source;
+        d.assembled = project.clone();
+        d.project = project;
         d.settings = settings;
         if let Some(channels) = channels {
             d.channel_names = channels;
@@ -338,16 +371,56 @@ impl Debugger {
     /// The program's name changes (saved under another file name); nothing else does.
     pub fn rename(&mut self, name: impl Into<String>) {
         self.name = name.into();
+        if !self.project.is_multi()
+            && let Some(top) = self.project.files.first_mut()
+        {
+            top.name = self.name.clone();
+        }
     }
+    /// The top file's text.
     pub fn source(&self) -> &str {
-        &self.source
+        self.project.top_text()
     }
-    /// The editable text. Edits take effect at the next assemble, step or run.
+    /// The top file's editable text. Edits take effect at the next assemble, step or run.
     pub fn source_mut(&mut self) -> &mut String {
-        &mut self.source
+        self.file_text_mut(0)
+    }
+    /// Every file of the program, the top file first.
+    pub fn project(&self) -> &Project {
+        &self.project
+    }
+    /// The files as the running program was assembled from them.
+    pub fn assembled_project(&self) -> &Project {
+        &self.assembled
+    }
+    /// File `file`'s editable text (the top file's when there is no such file).
+    pub fn file_text_mut(&mut self, file: usize) -> &mut String {
+        if self.project.files.is_empty() {
+            self.project.files.push(SourceFile::default());
+        }
+        let file = file.min(self.project.files.len() - 1);
+        &mut self.project.files[file].text
+    }
+    /// Whether file `file`'s text differs from what was assembled.
+    pub fn is_file_edited(&self, file: usize) -> bool {
+        self.project.files.get(file).map(|f| &f.text)
+            != self.assembled.files.get(file).map(|f| &f.text)
+    }
+    /// A program line as a user reads it: `12`, or `setup.tml:12` in a program of several
+    /// files.
+    pub fn describe_line(&self, line: usize) -> String {
+        self.project.describe(line)
+    }
+    /// "line 12", or "setup.tml:12" in a program of several files.
+    pub fn where_line(&self, line: usize) -> String {
+        if self.project.is_multi() {
+            self.project.describe(line)
+        } else {
+            format!("line {line}")
+        }
     }
     pub fn is_edited(&self) -> bool {
-        self.source != self.assembled_source
+        self.project != self.assembled
     }
     pub fn diagnostics(&self) -> &[Diagnostic] {
         &self.diagnostics
@@ -549,6 +622,15 @@ impl Debugger {
         self.load_as(dialect, name, source);
     }
 
+    /// Replace the whole program with one of several files (File -> Open of a top file).
+    pub fn load_project(&mut self, dialect: &'static Dialect, project: Project) {
+        let name = project.top_name().to_string();
+        self.load_as(dialect, name, "");
+        self.project = normalized(project);
+        self.assemble();
+        self.assembled = self.project.clone();
+    }
+
     /// Replace the whole program with one in `dialect`. Breakpoints are cleared; the settings
     /// and plot channels become the dialect's defaults when the dialect changes.
     pub fn load_as(
@@ -566,14 +648,17 @@ impl Debugger {
         // (a new program starts with every input low, as the runner does).
         self.engine = empty_engine(dialect, &self.settings);
         self.name = name.into();
-        self.source = crate::text::normalize(&source.into()).into_owned();
-        self.assembled_source.clear();
+        self.project = Project::single(
+            self.name.clone(),
+            crate::text::normalize(&source.into()).into_owned(),
+        );
+        self.assembled = Project::default();
         // Breakpoints and watches belong to their program: a new one starts clean.
         self.breaks.clear();
         self.watches.clear();
         self.assemble();
         // The text is as loaded, not edited, even when it does not assemble.
-        self.assembled_source = self.source.clone();
+        self.assembled = self.project.clone();
     }
 
     /// A new timeline at the start of the current program: every input low, as in the runner
@@ -609,16 +694,29 @@ impl Debugger {
     /// old state stays on screen, but nothing runs.
     pub fn assemble(&mut self) -> bool {
         self.goal = None;
-        match (self.dialect.open)(&self.source, &self.settings) {
+        match self.dialect.open_program(&self.project, &self.settings) {
             Ok(engine) => {
-                let moved = lines::line_mover(&self.assembled_source, &self.source);
+                // Each file's breakpoints follow their lines in that file's edit.
+                let movers: Vec<_> = (0..self.project.files.len())
+                    .map(|f| {
+                        let old = self.assembled.files.get(f).map_or("", |x| x.text.as_str());
+                        lines::line_mover(old, &self.project.files[f].text)
+                    })
+                    .collect();
                 self.breaks.retain_mut(|b| match &mut b.kind {
-                    BreakKind::Line(l) => moved(*l).map(|to| *l = to).is_some(),
+                    BreakKind::Line(l) => {
+                        let (file, local) = Project::split(*l);
+                        movers
+                            .get(file)
+                            .and_then(|moved| moved(local))
+                            .map(|to| *l = Project::line(file, to))
+                            .is_some()
+                    }
                     BreakKind::Data { .. } => true,
                 });
                 self.engine = engine;
                 self.restart();
-                self.assembled_source = self.source.clone();
+                self.assembled = self.project.clone();
                 // What is left are warnings: they are shown, the program runs.
                 self.diagnostics = self.engine.machine().warnings();
                 self.diagnostics.sort_by_key(|d| (d.line, d.col));
@@ -702,7 +800,7 @@ impl Debugger {
             self.breaks.remove(index);
             let old =
                 self.checker
-                    .replace(Checker::new(&self.breaks, self.machine(), self.lines()));
+                    .replace(Checker::new(&self.breaks, self.machine(), &self.lines()));
             let mut hits: Vec<u64> = (0..=self.breaks.len()).map(|i| old.hits(i)).collect();
             hits.remove(index);
             let new = self.checker.get_mut();
@@ -712,9 +810,14 @@ impl Debugger {
         }
     }
 
-    /// Source lines of the program that runs (breakpoints past them can never stop).
-    fn lines(&self) -> usize {
-        self.assembled_source.lines().count()
+    /// Source lines of each file of the program that runs (breakpoints past them can never
+    /// stop).
+    fn lines(&self) -> Vec<usize> {
+        self.assembled
+            .files
+            .iter()
+            .map(|f| f.text.lines().count())
+            .collect()
     }
 
     /// Why a breakpoint cannot work in the current program (a condition that does not parse,
@@ -736,7 +839,7 @@ impl Debugger {
     /// Compile the breakpoints against the current program, keeping the hit counts and log
     /// (`keep`) or starting both afresh.
     fn rebuild_checker(&mut self, keep: bool) {
-        let mut new = Checker::new(&self.breaks, self.engine.machine(), self.lines());
+        let mut new = Checker::new(&self.breaks, self.engine.machine(), &self.lines());
         if keep {
             let old = self.checker.borrow();
             new.keep_hits(&old);
@@ -852,7 +955,7 @@ impl Debugger {
     /// The dialect's settings; applying them restarts the program.
     pub fn set_settings(&mut self, settings: &Settings) {
         self.settings = self.dialect.settings_from(settings);
-        self.assembled_source.clear();
+        self.assembled = Project::default();
         self.assemble();
     }
 }

@@ -811,7 +811,11 @@ impl Debugger {
             return;
         };
         let checker = if breakpoints {
-            super::breakpoints::Checker::backward(&self.breaks, self.engine.machine(), self.lines())
+            super::breakpoints::Checker::backward(
+                &self.breaks,
+                self.engine.machine(),
+                &self.lines(),
+            )
         } else {
             super::breakpoints::Checker::default()
         };

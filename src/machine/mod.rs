@@ -15,6 +15,7 @@
 pub mod bits;
 pub mod diagnostics;
 pub mod plc;
+pub mod project;
 pub mod reference;
 pub mod registry;
 pub mod value;
@@ -356,6 +357,12 @@ pub trait MachineView: Send + 'static {
         Vec::new()
     }
 
+    /// Each line on which a statement starts, with that statement's program-memory address
+    /// (TML, spec tml.md §5.11), sorted by line: the code view's gutter can show them.
+    fn line_addresses(&self) -> Vec<(usize, u32)> {
+        Vec::new()
+    }
+
     /// Warnings about the program that do not stop it (OpenNet: a MICRO3 relay read but never
     /// written): the window lists them with the problems, the runner prints them on stderr.
     fn warnings(&self) -> Vec<Diagnostic> {
@@ -379,6 +386,12 @@ pub trait MachineView: Send + 'static {
     /// position), with their labels.
     fn plot_markers(&self) -> Vec<(String, i64)> {
         Vec::new()
+    }
+
+    /// A band the plot draws around a channel: the channel's location name, the half width
+    /// and a label (TML with UPGRADE bit 11: TPOS ± POSOKLIM, the in-position window).
+    fn plot_band(&self) -> Option<(&'static str, i64, String)> {
+        None
     }
 
     /// The program as a ladder diagram (scanned PLCs), built once when it was assembled.

@@ -7,6 +7,7 @@ use std::path::Path;
 
 use crate::debugger::Engine;
 use crate::machine::Diagnostic;
+use crate::machine::project::Project;
 
 pub use super::DIALECTS;
 
@@ -161,6 +162,11 @@ pub struct Dialect {
     pub error_flags: &'static str,
     /// Assemble `source` into a machine with these settings.
     pub open: fn(source: &str, settings: &Settings) -> OpenResult,
+    /// For a dialect whose programs may be several files: assemble a whole project (else
+    /// `open` takes the top file's text).
+    pub open_project: Option<fn(project: &Project, settings: &Settings) -> OpenResult>,
+    /// The paths a file's text includes (TML's `#include`), for loading a project from disk.
+    pub includes: Option<fn(text: &str) -> Vec<String>>,
     /// Colour class of every character of one line (without its newline).
     pub classify: fn(line: &str) -> Vec<TokenClass>,
     /// The dialect's own panels in the window.
@@ -169,6 +175,29 @@ pub struct Dialect {
 }
 
 impl Dialect {
+    /// Assemble a program of one or more files.
+    pub fn open_program(&self, project: &Project, settings: &Settings) -> OpenResult {
+        match self.open_project {
+            Some(open) => open(project, settings),
+            None => (self.open)(project.top_text(), settings),
+        }
+    }
+
+    /// Read the program whose top file is `path`, with its included files.
+    pub fn load(&self, path: &Path) -> Result<Project, crate::text::TextError> {
+        match self.includes {
+            Some(includes) => crate::machine::project::load(path, includes),
+            None => {
+                let text = crate::text::read(path)?;
+                let name = path.file_name().map_or_else(
+                    || path.display().to_string(),
+                    |n| n.to_string_lossy().into_owned(),
+                );
+                Ok(Project::single(name, text))
+            }
+        }
+    }
+
     /// Whether `word` is one of the dialect's mnemonics (case-insensitive).
     pub fn is_mnemonic(&self, word: &str) -> bool {
         self.mnemonics

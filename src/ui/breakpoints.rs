@@ -92,7 +92,7 @@ fn row(ui: &mut egui::Ui, debugger: &Debugger, i: usize, b: &Breakpoint, out: &m
         match b.kind {
             BreakKind::Line(line) => {
                 if ui
-                    .link(format!("Line {line}"))
+                    .link(format!("Line {}", debugger.describe_line(line)))
                     .on_hover_text("Show the line")
                     .clicked()
                 {

@@ -8,6 +8,7 @@ use super::Command;
 use super::theme::{Palette, palette};
 use crate::debugger::Debugger;
 use crate::machine::Diagnostic;
+use crate::machine::project::{FILE_LINES, Project};
 use crate::machine::registry::TokenClass;
 
 pub const TEXT_ID: &str = "program_text";
@@ -49,6 +50,13 @@ pub struct CodeView {
     pub viewport_height: f32,
     /// The editor's visible height when the line about to run was last kept in view.
     pc_view_height: f32,
+    /// The file shown (index into the program's files; 0, the top file, for most programs).
+    pub file: usize,
+    /// The gutter shows each statement's program-memory address (TML, spec §5.11).
+    pub addresses: bool,
+    /// The file the line about to run was in at the last frame: entering another brings its
+    /// tab forward.
+    pc_file: Option<usize>,
 }
 
 /// A place in the text: 1-based line and column (in characters), and how many characters
@@ -91,6 +99,11 @@ impl CodeView {
         *self = CodeView::default();
     }
 
+    /// The program line of the shown file's 1-based line `local`.
+    pub fn program_line(&self, local: usize) -> usize {
+        Project::line(self.file, local)
+    }
+
     /// The line F9 and Ctrl+F10 act on: the text cursor's, else the one about to run.
     pub fn target_line(&self, debugger: &Debugger) -> Option<usize> {
         self.cursor_line.or_else(|| debugger.machine().pc_line())
@@ -100,16 +113,18 @@ impl CodeView {
     /// first mnemonic of the caret's line (of the line about to run without a caret).
     pub fn word_at_caret(&self, debugger: &Debugger) -> Option<String> {
         let dialect = debugger.dialect();
-        let text = debugger.source();
+        let text = shown_text(debugger, self.file);
         if let Some(m) = self
             .cursor_char
             .and_then(|at| mnemonic_in(dialect, &token_at(text, at)))
         {
             return Some(m);
         }
-        let line = text
-            .lines()
-            .nth(self.target_line(debugger)?.checked_sub(1)?)?;
+        let line = text.lines().nth(
+            Project::split(self.target_line(debugger)?)
+                .1
+                .checked_sub(1)?,
+        )?;
         line.split_whitespace()
             .find_map(|token| mnemonic_in(dialect, token))
     }
@@ -496,8 +511,95 @@ fn char_of_line(text: &str, line: usize) -> usize {
     text.chars().count()
 }
 
+/// The text of file `file` of the program (the top file's when there is no such file).
+pub fn shown_text(debugger: &Debugger, file: usize) -> &str {
+    let files = &debugger.project().files;
+    files
+        .get(file)
+        .or_else(|| files.first())
+        .map_or("", |f| f.text.as_str())
+}
+
+/// The file an `#include` line names, if `line` is one that names a file of the program.
+fn included_file(debugger: &Debugger, file: usize, line: &str) -> Option<usize> {
+    let includes = debugger.dialect().includes?;
+    let path = includes(line).into_iter().next()?;
+    let project = debugger.project();
+    let includer = project.files.get(file)?.name.as_str();
+    project.index_of(&crate::machine::project::resolve_include(includer, &path))
+}
+
+/// One tab per file, the top file first; the one holding the line about to run is marked.
+fn file_tabs(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, pc: Option<usize>) {
+    let p = palette(ui.visuals().dark_mode);
+    ui.horizontal_wrapped(|ui| {
+        for (k, f) in debugger.project().files.iter().enumerate() {
+            let edited = debugger.is_file_edited(k);
+            let running = pc.is_some_and(|l| Project::split(l).0 == k);
+            let mut text = RichText::new(format!(
+                "{}{}{}",
+                if running { "▶ " } else { "" },
+                f.name,
+                if edited { " •" } else { "" }
+            ))
+            .monospace();
+            if running {
+                text = text.color(p.written);
+            }
+            let tab = ui
+                .selectable_label(view.file == k, text)
+                .on_hover_text(if running {
+                    "The statement about to run is in this file"
+                } else {
+                    "Show this file"
+                });
+            tab.widget_info(|| {
+                egui::WidgetInfo::selected(
+                    egui::Role::Tab,
+                    true,
+                    view.file == k,
+                    format!("File {}", f.name),
+                )
+            });
+            if tab.clicked() {
+                view.file = k;
+            }
+        }
+    });
+}
+
 pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &mut Vec<Command>) {
     let p = palette(ui.visuals().dark_mode);
+    let files = debugger.project().files.len().max(1);
+    {
+        let m = debugger.machine();
+        let pc_file = m
+            .pc_line()
+            .filter(|_| m.run_state().is_live())
+            .map(|l| Project::split(l).0);
+        // Execution entering another file brings its tab forward (not every step: the user
+        // may be reading another file meanwhile).
+        if pc_file != view.pc_file {
+            if let Some(f) = pc_file.filter(|&f| f < files) {
+                view.file = f;
+            }
+            view.pc_file = pc_file;
+        }
+    }
+    // A line asked for in another file shows that file.
+    if let Some(j) = view.pending_jump {
+        let (f, _) = Project::split(j.line);
+        if f < files {
+            view.file = f;
+        }
+    }
+    if view.file >= files {
+        view.file = 0;
+    }
+    let file = view.file;
+    let base = Project::line(file, 0);
+    let to_local =
+        move |line: usize| (line > base && line < base + FILE_LINES).then(|| line - base);
     for (shortcut, bar) in [(FIND, Bar::Find), (GO_TO_LINE, Bar::GoToLine)] {
         if ui.input_mut(|i| i.consume_shortcut(&shortcut)) {
             if view.bar != Some(bar) {
@@ -511,13 +613,40 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
     if !debugger.diagnostics().is_empty() {
         problems(ui, debugger, view);
     }
+    let multi = debugger.project().is_multi();
+    if multi {
+        let m = debugger.machine();
+        file_tabs(
+            ui,
+            debugger,
+            view,
+            m.pc_line().filter(|_| m.run_state().is_live()),
+        );
+    }
+    // This file's diagnostics, at its own line numbers.
+    let diagnostics: Vec<Diagnostic> = debugger
+        .diagnostics()
+        .iter()
+        .filter_map(|d| {
+            Some(Diagnostic {
+                line: to_local(d.line)?,
+                ..d.clone()
+            })
+        })
+        .collect();
     view.lines.update(debugger.source());
-    let long = view.lines.text_lines() > EDIT_IN_PLACE_LINES;
+    // The row view of long programs shows the top file.
+    let long = file == 0 && view.lines.text_lines() > EDIT_IN_PLACE_LINES;
     let header = ui
         .horizontal(|ui| {
             // The tab says "Program"; the header names it, and names the editor for screen
             // readers.
-            let label = ui.label(RichText::new(debugger.name()).monospace().strong());
+            let shown = if multi {
+                debugger.project().files[file].name.as_str()
+            } else {
+                debugger.name()
+            };
+            let label = ui.label(RichText::new(shown).monospace().strong());
             if long {
                 super::code_rows::edit_switch(ui, view, view.lines.text_lines());
             }
@@ -533,6 +662,9 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
     if view.bar.is_some() {
         bar(ui, debugger, view);
     }
+    if long && let Some(j) = view.pending_jump.as_mut() {
+        j.line = Project::split(j.line).1;
+    }
     if long && !view.edit_long {
         if let Some(jump) = view.pending_jump.take() {
             view.cursor_line = Some(jump.line);
@@ -544,13 +676,22 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
     let font = TextStyle::Monospace.resolve(ui.style());
     let row_height = ui.fonts_mut(|f| f.row_height(&font));
     let char_width = ui.fonts_mut(|f| f.glyph_width(&font, '0'));
-    let mut text = debugger.source().to_string();
+    let mut text = shown_text(debugger, file).to_string();
     let line_count = text.lines().count().max(1) + usize::from(text.ends_with('\n'));
     let digits = line_count.to_string().len().max(3);
-    let gutter_width = char_width * (digits as f32 + 3.5);
+    let addresses = if view.addresses {
+        debugger.machine().line_addresses()
+    } else {
+        Vec::new()
+    };
+    let address_width = if addresses.is_empty() { 0.0 } else { 7.0 };
+    let gutter_width = char_width * (digits as f32 + 3.5 + address_width);
     let machine = debugger.machine();
-    let pc_line = machine.pc_line().filter(|_| machine.run_state().is_live());
-    let fault_line = machine.fault().map(|f| f.line);
+    let pc_line = machine
+        .pc_line()
+        .filter(|_| machine.run_state().is_live())
+        .and_then(to_local);
+    let fault_line = machine.fault().and_then(|f| to_local(f.line));
     let text_id = Id::unique(TEXT_ID);
 
     // PageUp/PageDown move the caret by a screenful (the text editor itself ignores them).
@@ -579,6 +720,10 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
     if jump.is_none() && std::mem::take(&mut view.focus_again) {
         ui.memory_mut(|m| m.request_focus(text_id));
     }
+    let jump = jump.map(|j| Jump {
+        line: Project::split(j.line).1,
+        ..j
+    });
     if let Some(j) = jump {
         let ctx = ui.ctx().clone();
         let mut state = egui::TextEdit::load_state(&ctx, text_id).unwrap_or_default();
@@ -590,7 +735,7 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
         state.store(&ctx, text_id);
         ctx.memory_mut(|m| m.request_focus(text_id));
         view.focus_again = true;
-        view.cursor_line = Some(j.line);
+        view.cursor_line = Some(base + j.line);
         view.cursor_char = Some(index);
     }
     let enter_pressed =
@@ -632,7 +777,11 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                 let rows = LineRows::of(&output.galley, output.galley_pos, text_left);
                 // Outputs skipped on an unpowered rung are greyed over.
                 // Code the scan did not run at all (jumped over, an inactive stage) more so.
-                let power = machine.line_power();
+                let power: Vec<(usize, crate::machine::LinePower)> = machine
+                    .line_power()
+                    .into_iter()
+                    .filter_map(|(l, s)| Some((to_local(l)?, s)))
+                    .collect();
                 let skipped: Vec<(Option<usize>, egui::Color32)> = power
                     .iter()
                     .filter(|(_, s)| *s == crate::machine::LinePower::Skipped)
@@ -677,18 +826,17 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                         .collect();
                 ui.painter().set(backgrounds, egui::Shape::Vec(fills));
                 let clip = ui.clip_rect();
-                line_notes(
-                    ui,
-                    &machine.line_notes(),
-                    clip.right(),
-                    |l| rows.rect(l),
-                    &p,
-                );
+                let notes: Vec<(usize, String)> = machine
+                    .line_notes()
+                    .into_iter()
+                    .filter_map(|(l, n)| Some((to_local(l)?, n)))
+                    .collect();
+                line_notes(ui, &notes, clip.right(), |l| rows.rect(l), &p);
                 ui.painter().extend(error_underlines(
                     &output.galley,
                     output.galley_pos,
                     1,
-                    debugger.diagnostics(),
+                    &diagnostics,
                     rows.visible(clip.top(), clip.bottom()),
                     p.error,
                     p.written,
@@ -718,17 +866,33 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                     if enter_pressed && let Some(at) = caret {
                         caret = Some(keep_indent(ui.ctx(), text_id, &mut text, at));
                     }
-                    out.push(Command::EditSource(text.clone()));
+                    out.push(Command::EditFile(file, text.clone()));
                 }
                 if let Some(at) = caret {
-                    view.cursor_line = Some(line_of_char(&text, at));
+                    view.cursor_line = Some(base + line_of_char(&text, at));
                     view.cursor_char = Some(at);
+                }
+                // Ctrl+click on an `#include` line opens the file it names.
+                if output.response.clicked()
+                    && ui.input(|i| i.modifiers.command)
+                    && let Some(pos) = output.response.interact_pointer_pos()
+                    && let Some(line) = rows.line_at(pos.y)
+                    && let Some(target) = text
+                        .lines()
+                        .nth(line - 1)
+                        .and_then(|l| included_file(debugger, file, l))
+                {
+                    view.pending_jump = Some(Jump::line(Project::line(target, 1)));
                 }
                 if let Some(pos) = output.response.hover_pos()
                     && let Some(line) = rows.line_at(pos.y)
                 {
-                    let messages: Vec<String> = debugger
-                        .diagnostics()
+                    let include_hint = text
+                        .lines()
+                        .nth(line - 1)
+                        .and_then(|l| included_file(debugger, file, l))
+                        .map(|k| format!("Ctrl+click opens {}", debugger.project().files[k].name));
+                    let messages: Vec<String> = diagnostics
                         .iter()
                         .filter(|d| d.line == line)
                         .map(|d| format!("{}:{}: {}", d.line, d.col, d.message))
@@ -741,7 +905,11 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                     let value = word_at(&text, under)
                         .and_then(|word| hover_value(debugger.machine(), &word))
                         .or_else(|| mnemonic_hover(debugger.dialect(), &token_at(&text, under)));
-                    let tip: Vec<String> = messages.into_iter().chain(value).collect();
+                    let tip: Vec<String> = messages
+                        .into_iter()
+                        .chain(include_hint)
+                        .chain(value)
+                        .collect();
                     if !tip.is_empty() {
                         egui::Response::clone(&output.response).on_hover_ui_at_pointer(|ui| {
                             ui.label(RichText::new(tip.join("\n\n")).monospace());
@@ -773,7 +941,23 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                         super::breakpoints::location_menu(ui, debugger.machine(), &name, loc, out);
                     });
                 }
-                gutter_ui(ui, debugger, gutter, &rows, pc_line, &p, &font, out);
+                let gutter_view = GutterView {
+                    base,
+                    diagnostics: &diagnostics,
+                    power: &power,
+                    addresses: &addresses,
+                };
+                gutter_ui(
+                    ui,
+                    debugger,
+                    gutter,
+                    &rows,
+                    pc_line,
+                    &gutter_view,
+                    &p,
+                    &font,
+                    out,
+                );
             });
             // Clicking below the last line puts the caret at the end, as in any editor.
             let below = ui.available_rect_before_wrap();
@@ -832,7 +1016,8 @@ fn bar(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView) {
         return;
     };
     let p = palette(ui.visuals().dark_mode);
-    let text = debugger.source();
+    let text = shown_text(debugger, view.file);
+    let base = view.program_line(0);
     let field_id = Id::unique(BAR_ID);
     ui.horizontal_wrapped(|ui| {
         let label = ui.label(match kind {
@@ -872,7 +1057,7 @@ fn bar(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView) {
                 if ui.button("Go").clicked() || entered {
                     match view.bar_text.trim().parse::<usize>() {
                         Ok(line) if (1..=lines).contains(&line) => {
-                            view.pending_jump = Some(Jump::line(line));
+                            view.pending_jump = Some(Jump::line(base + line));
                             view.bar = None;
                         }
                         _ => {
@@ -898,7 +1083,7 @@ fn bar(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView) {
                 Some((at, count, number)) => {
                     let (line, col) = line_col(text, at);
                     view.pending_jump = Some(Jump {
-                        line,
+                        line: base + line,
                         col,
                         len: view.bar_text.trim().chars().count(),
                     });
@@ -973,6 +1158,16 @@ impl LineRows {
     }
 }
 
+/// What the gutter shows of the file in view, at its own line numbers.
+struct GutterView<'a> {
+    /// The program line before the file's first (its lines are `base + 1 ..`).
+    base: usize,
+    diagnostics: &'a [Diagnostic],
+    power: &'a [(usize, crate::machine::LinePower)],
+    /// Program lines and the address of the statement starting each (when shown).
+    addresses: &'a [(usize, u32)],
+}
+
 #[allow(clippy::too_many_arguments)]
 fn gutter_ui(
     ui: &mut egui::Ui,
@@ -980,25 +1175,29 @@ fn gutter_ui(
     gutter: Rect,
     rows: &LineRows,
     pc_line: Option<usize>,
+    gv: &GutterView<'_>,
     p: &Palette,
     font: &FontId,
     out: &mut Vec<Command>,
 ) {
     let clip = ui.clip_rect();
-    let error_lines: Vec<usize> = debugger.diagnostics().iter().map(|d| d.line).collect();
+    let base = gv.base;
+    let error_lines: Vec<usize> = gv.diagnostics.iter().map(|d| d.line).collect();
     let warning_only = |line: usize| {
-        debugger
-            .diagnostics()
+        gv.diagnostics
             .iter()
             .filter(|d| d.line == line)
             .all(|d| d.severity == crate::machine::Severity::Warning)
     };
-    let power = debugger.machine().line_power();
+    let power = gv.power;
     // Per line: whether any breakpoint is on it, any enabled, and any with more than a line.
     let marks: std::collections::BTreeMap<usize, (bool, bool)> = debugger
         .breakpoint_list()
         .iter()
-        .filter_map(|b| Some((b.line_number()?, b)))
+        .filter_map(|b| {
+            let line = b.line_number()?;
+            (line > base && line < base + FILE_LINES).then(|| (line - base, b))
+        })
         .fold(Default::default(), |mut acc, (line, b)| {
             let entry = acc.entry(line).or_insert((false, false));
             entry.0 |= b.enabled;
@@ -1022,7 +1221,7 @@ fn gutter_ui(
         response
             .widget_info(|| egui::WidgetInfo::selected(egui::Role::CheckBox, true, has_bp, &label));
         if response.clicked() {
-            out.push(Command::ToggleBreakpoint(line));
+            out.push(Command::ToggleBreakpoint(base + line));
         }
         let response = response.on_hover_text_at_pointer(
             "Click: breakpoint. Right-click: a conditional breakpoint or a log point",
@@ -1030,13 +1229,14 @@ fn gutter_ui(
         response.context_menu(|ui| {
             if ui.button("Add a conditional breakpoint").clicked() {
                 out.push(Command::AddBreakpoint(
-                    crate::debugger::Breakpoint::line(line).with_condition("1"),
+                    crate::debugger::Breakpoint::line(base + line).with_condition("1"),
                 ));
                 ui.close();
             }
             if ui.button("Add a log point").clicked() {
                 out.push(Command::AddBreakpoint(
-                    crate::debugger::Breakpoint::line(line).with_log(format!("line {line}")),
+                    crate::debugger::Breakpoint::line(base + line)
+                        .with_log(format!("line {}", debugger.describe_line(base + line))),
                 ));
                 ui.close();
             }
@@ -1114,9 +1314,22 @@ fn gutter_ui(
             font.clone(),
             number_color,
         );
+        // The address of the line's first statement in program memory.
+        if let Ok(k) = gv
+            .addresses
+            .binary_search_by_key(&(base + line), |&(l, _)| l)
+        {
+            painter.text(
+                pos2(row.left() + row_height * 1.6, row.center().y),
+                egui::Align2::LEFT_CENTER,
+                format!("{:04X}", gv.addresses[k].1),
+                font.clone(),
+                p.dim,
+            );
+        }
         if has_error {
-            let messages: Vec<String> = debugger
-                .diagnostics()
+            let messages: Vec<String> = gv
+                .diagnostics
                 .iter()
                 .filter(|d| d.line == line)
                 .map(|d| d.message.clone())
@@ -1161,7 +1374,7 @@ fn problems(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView) {
                         let warning = d.severity == crate::machine::Severity::Warning;
                         let text = format!(
                             "{}:{}  {}{}",
-                            d.line,
+                            debugger.describe_line(d.line),
                             d.col,
                             if warning { "warning: " } else { "" },
                             crate::machine::diagnostics::printable(&d.message)

@@ -285,6 +285,17 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
             if ui.button("Reset layout").clicked() {
                 out.push(Command::ResetLayout);
             }
+            // Program memory addresses (TML, spec §5.11).
+            if !app.debugger.machine().line_addresses().is_empty() {
+                let mut shown = app.code.addresses;
+                if ui
+                    .checkbox(&mut shown, "Statement addresses in the gutter")
+                    .on_hover_text("Each line's first statement's address in program memory (hex)")
+                    .changed()
+                {
+                    out.push(Command::ShowAddresses(shown));
+                }
+            }
             ui.separator();
             if ui.radio(app.prefs.dark, "Dark theme").clicked() {
                 out.push(Command::SetDark(true));

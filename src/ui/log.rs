@@ -40,14 +40,26 @@ pub struct LogView {
     search: Option<LogSearch>,
 }
 
+/// A line as a user types it: `12`, or `setup.tml:12` in a program of several files.
+fn parse_line(debugger: &Debugger, text: &str) -> Option<usize> {
+    use crate::machine::project::Project;
+    match text.rsplit_once(':') {
+        Some((file, line)) => {
+            let file = debugger.project().index_of(file.trim())?;
+            Some(Project::line(file, line.trim().parse().ok()?))
+        }
+        None => text.parse().ok(),
+    }
+}
+
 impl LogView {
     fn filter(&mut self, debugger: &Debugger) -> LogFilter {
         let text = self.filter_text.trim();
         self.filter_error = None;
         match self.filter_kind {
-            1 => match text.parse::<usize>() {
-                Ok(line) => LogFilter::Line(line),
-                Err(_) => {
+            1 => match parse_line(debugger, text) {
+                Some(line) => LogFilter::Line(line),
+                None => {
                     if !text.is_empty() {
                         self.filter_error = Some(format!("'{text}' is not a line number"));
                     }
@@ -160,7 +172,12 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut LogView, out: &mu
                     .stick_to_bottom(true)
                     .show(ui, |ui| {
                         for m in messages.iter().rev().take(MAX_ROWS).rev() {
-                            let text = format!("{tick} {} · line {}: {}", m.at, m.line, m.text);
+                            let text = format!(
+                                "{tick} {} · {}: {}",
+                                m.at,
+                                debugger.where_line(m.line),
+                                m.text
+                            );
                             if ui
                                 .add(
                                     egui::Label::new(RichText::new(text).monospace())
@@ -246,7 +263,7 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut LogView, out: &mu
             let text = format!(
                 "{:>9}  {:>4}  {}{}",
                 r.at.to_string(),
-                r.line,
+                debugger.describe_line(r.line),
                 r.explanation,
                 if written.is_empty() {
                     String::new()

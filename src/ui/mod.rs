@@ -56,6 +56,10 @@ pub enum Command {
     ToggleBreakpoint(usize),
     Assemble,
     EditSource(String),
+    /// Show each statement's program-memory address in the code view's gutter.
+    ShowAddresses(bool),
+    /// The text of file `.0` of the program (0 is the top file) was edited.
+    EditFile(usize, String),
     SetSpeed(Speed),
     SetInput(Loc, bool),
     SetValue(Loc, u64),
@@ -199,7 +203,8 @@ pub struct ServoscopeApp {
     saved: Session,
     saved_program: String,
     /// The text the program file holds (as loaded or last saved), when there is a file.
-    file_text: Option<String>,
+    /// Each file's text as opened or last saved as a program (the top file first).
+    file_text: Option<Vec<String>>,
     pub prefs: Prefs,
     pub code: code::CodeView,
     pub registers: registers::RegisterView,
@@ -544,7 +549,7 @@ impl ServoscopeApp {
     pub fn load_program_as(&mut self, dialect: &'static Dialect, name: &str, text: &str) {
         self.set_lesson(None);
         self.debugger.load_as(dialect, name, text);
-        self.file_text = Some(self.debugger.source().to_string());
+        self.file_text = Some(file_texts(&self.debugger));
         self.path = None;
         self.session_path = None;
         self.fresh_views();
@@ -560,14 +565,22 @@ impl ServoscopeApp {
             Some(d) => d,
             None => registry::choose(path, None).map_err(|e| e.to_string())?,
         };
-        let text = crate::text::read(path).map_err(|e| format!("Cannot open the program: {e}"))?;
+        // The top file of a project opens with every file it includes.
+        let project = dialect
+            .load(path)
+            .map_err(|e| format!("Cannot open the program: {e}"))?;
         // A student opening an answer keeps the lesson open: its checks apply to any program
         // of its dialect.
         if self.debugger.dialect() != dialect {
             self.set_lesson(None);
         }
-        self.debugger.load_as(dialect, files::file_name(path), text);
-        self.file_text = Some(self.debugger.source().to_string());
+        if project.is_multi() {
+            self.debugger.load_project(dialect, project);
+        } else {
+            self.debugger
+                .load_as(dialect, files::file_name(path), project.top_text());
+        }
+        self.file_text = Some(file_texts(&self.debugger));
         self.path = Some(path.to_path_buf());
         self.session_path = None;
         self.fresh_views();
@@ -603,9 +616,10 @@ impl ServoscopeApp {
     }
 
     fn install_session(&mut self, path: &Path, session: &Session, debugger: Debugger) {
+        let changed = session.changed_on_disk();
         self.debugger = debugger;
         self.path = session.program_path.clone();
-        self.file_text = Some(self.debugger.source().to_string());
+        self.file_text = Some(file_texts(&self.debugger));
         self.session_path = Some(path.to_path_buf());
         self.fresh_views();
         self.apply_view_settings(&session.view);
@@ -621,6 +635,16 @@ impl ServoscopeApp {
                 "Opened {}, but {}",
                 path.display(),
                 session.warnings.join("; ")
+            ));
+        }
+        if !changed.is_empty() {
+            let said = self
+                .notice
+                .take()
+                .map_or(String::new(), |n| format!("{n}. "));
+            self.notice = Some(format!(
+                "{said}{} changed on disk since the session was saved: the session's copies are shown and run (Save program writes them back)",
+                changed.join(", ")
             ));
         }
     }
@@ -679,7 +703,7 @@ impl ServoscopeApp {
 
     /// Whether the program text differs from what was opened or last saved as a program.
     pub fn program_modified(&self) -> bool {
-        self.file_text.as_deref() != Some(self.debugger.source())
+        self.file_text.as_ref() != Some(&file_texts(&self.debugger))
     }
 
     /// Write the program text to `path` (atomically; the dialect's extension is added to a
@@ -700,21 +724,43 @@ impl ServoscopeApp {
             return;
         }
         let path = std::path::absolute(&path).unwrap_or(path);
-        let text = self.debugger.source().to_string();
-        match crate::atomic::write_atomically(&path, |w| w.write_all(text.as_bytes())) {
-            Ok(()) => {
-                self.debugger.rename(files::file_name(&path));
-                self.path = Some(path.clone());
-                self.file_text = Some(text);
-                self.remember(&path);
-                self.files.save_program.close();
-                self.notice = Some(format!("Program saved to {}", path.display()));
+        let texts = file_texts(&self.debugger);
+        // The included files sit relative to the top file: each that changed is written
+        // beside it (all of them when the top file moves to another folder).
+        let same_folder = self.path.as_ref().and_then(|p| p.parent()) == path.parent();
+        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        let saved = self.file_text.clone().unwrap_or_default();
+        let mut written = Vec::new();
+        for (k, f) in self.debugger.project().files.iter().enumerate() {
+            let target = if k == 0 {
+                path.clone()
+            } else {
+                dir.join(&f.name)
+            };
+            if k > 0 && same_folder && saved.get(k) == Some(&f.text) {
+                continue;
             }
-            Err(e) => self.file_failed(
-                files::Purpose::SaveProgram,
-                format!("Cannot write {}: {e}", path.display()),
-            ),
+            if let Err(e) =
+                crate::atomic::write_atomically(&target, |w| w.write_all(f.text.as_bytes()))
+            {
+                self.file_failed(
+                    files::Purpose::SaveProgram,
+                    format!("Cannot write {}: {e}", target.display()),
+                );
+                return;
+            }
+            written.push(target.display().to_string());
         }
+        self.debugger.rename(files::file_name(&path));
+        self.path = Some(path.clone());
+        self.file_text = Some(texts);
+        self.remember(&path);
+        self.files.save_program.close();
+        self.notice = Some(if written.len() > 1 {
+            format!("Program saved: {}", written.join(", "))
+        } else {
+            format!("Program saved to {}", path.display())
+        });
     }
 
     /// Save the session to `path` (atomically). Errors leave the old file and are reported; a
@@ -814,6 +860,8 @@ impl ServoscopeApp {
                 d.assemble();
             }
             Command::EditSource(text) => *d.source_mut() = text,
+            Command::EditFile(file, text) => *d.file_text_mut(file) = text,
+            Command::ShowAddresses(shown) => self.code.addresses = shown,
             Command::SetSpeed(speed) => {
                 d.set_speed(speed);
                 self.prefs.speed = speed;
@@ -1274,6 +1322,16 @@ impl ServoscopeApp {
             }
         }
     }
+}
+
+/// Each file's text, the top file first.
+fn file_texts(debugger: &Debugger) -> Vec<String> {
+    debugger
+        .project()
+        .files
+        .iter()
+        .map(|f| f.text.clone())
+        .collect()
 }
 
 impl eframe::App for ServoscopeApp {

@@ -517,6 +517,25 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut PlotView, out: &m
                             .flat_map(|(_, _, pts)| pts.iter().map(|p| p[1]))
                             .chain(markers.iter().map(|(_, v)| *v as f64)),
                     );
+                    // The in-position window around its channel (TML: TPOS ± POSOKLIM).
+                    if let Some((name, half, label)) = machine.plot_band()
+                        && let Some((_, _, points)) = lines
+                            .iter()
+                            .find(|(_, c, _)| c.expr.is_none() && c.name == name)
+                    {
+                        for (sign, title) in [(1.0, label.as_str()), (-1.0, "")] {
+                            let shifted: Vec<[f64; 2]> = points
+                                .iter()
+                                .map(|p| [p[0], p[1] + sign * half as f64])
+                                .collect();
+                            plot_ui.line(
+                                Line::new(title, PlotPoints::from(shifted))
+                                    .color(p.written.gamma_multiply(0.6))
+                                    .style(egui_plot::LineStyle::dotted_dense())
+                                    .width(1.0),
+                            );
+                        }
+                    }
                     for (label, value) in &markers {
                         plot_ui.hline(
                             egui_plot::HLine::new(label.as_str(), *value as f64)

@@ -72,7 +72,7 @@ pub fn status_bar(ui: &mut egui::Ui, debugger: &Debugger) {
     ui.horizontal(|ui| {
         let line = m
             .last_line()
-            .map_or(String::new(), |l| format!("line {l}: "));
+            .map_or(String::new(), |l| format!("{}: ", debugger.where_line(l)));
         let errors = debugger.error_count();
         let text = match m.explain_last() {
             // Step and Run are disabled: say why, not which key steps.
@@ -131,9 +131,13 @@ pub fn fault_banner(ui: &mut egui::Ui, debugger: &Debugger) {
         .show(ui, |ui| {
             ui.set_width(ui.available_width());
             ui.label(
-                RichText::new(format!("Fault: {} at line {}", fault.kind, fault.line))
-                    .strong()
-                    .color(p.error),
+                RichText::new(format!(
+                    "Fault: {} at {}",
+                    fault.kind,
+                    debugger.where_line(fault.line)
+                ))
+                .strong()
+                .color(p.error),
             );
             ui.label(&fault.message);
             ui.label(

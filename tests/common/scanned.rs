@@ -288,6 +288,8 @@ pub static SCANNED: Dialect = Dialect {
     empty_program: "",
     error_flags: "none",
     open,
+    open_project: None,
+    includes: None,
     classify: plain,
     #[cfg(feature = "gui")]
     panels: no_panels,

@@ -75,6 +75,8 @@ pub static DIALECT: Dialect = Dialect {
     empty_program: "END\n",
     error_flags: "SP53 divide by zero, SP75 non-BCD data",
     open,
+    open_project: None,
+    includes: None,
     classify: super::syntax::classify,
     #[cfg(feature = "gui")]
     panels: super::panels::panels,

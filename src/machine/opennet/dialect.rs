@@ -84,6 +84,8 @@ pub static DIALECT: Dialect = Dialect {
     empty_program: "",
     error_flags: "M8004, execution error",
     open,
+    open_project: None,
+    includes: None,
     classify: super::syntax::classify,
     #[cfg(feature = "gui")]
     panels: super::panels::panels,

@@ -128,6 +128,8 @@ pub static DIALECT: Dialect = Dialect {
     empty_program: "",
     error_flags: "PSW bit 12, command error",
     open,
+    open_project: None,
+    includes: None,
     classify: super::syntax::classify,
     #[cfg(feature = "gui")]
     panels: super::queues_panel::panels,

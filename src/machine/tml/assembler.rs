@@ -10,6 +10,7 @@ use super::program::{AddKind, Cond, Data, EventSpec, Op, Operand, Program, Stmt,
 use super::{PREDEFINED, d};
 use crate::machine::Diagnostic;
 use crate::machine::diagnostics::Suggester;
+use crate::machine::project::Project;
 
 /// The statements of the subset (spec §5), reserved as names.
 pub const MNEMONICS: &[&str] = &[
@@ -313,11 +314,28 @@ fn number(word: &str) -> Tok {
     lower.parse().map_or_else(|_| bad(), int)
 }
 
+/// A value only program memory can give: the address of a label's statement, or the statement
+/// at a numeric jump address.
+#[derive(Clone, Copy, Debug)]
+enum Fixup {
+    LabelAddress(u32),
+    JumpAddress { address: u32, col: usize, len: usize },
+}
+
+/// Where a GOTO or CALL goes.
+enum Target {
+    Statement(u32),
+    Via(Operand),
+}
+
 /// Names the program and the drive define, while the program is read.
 struct Names<'a> {
     vars: Vec<Var>,
     var_index: HashMap<String, u16>,
     labels: &'a HashMap<String, (u32, usize)>,
+    /// What the statement being read leaves to be filled in once every statement's address is
+    /// known (spec §5.11).
+    pending: Option<Fixup>,
     used: Vec<u8>,
     used_inputs: Vec<u8>,
     uses_preg: bool,
@@ -379,7 +397,7 @@ impl Names<'_> {
             return err(
                 t.col,
                 t.len,
-                format!("'{name}' is a label: addresses of labels are not supported by servoscope yet"),
+                format!("'{name}' is a label: a label's address can only be assigned to 16-bit data ('W16 = {name};') or be a jump target"),
             );
         } else if let Some(message) = unmodelled(name) {
             return err(t.col, t.len, message);
@@ -567,32 +585,58 @@ fn not_supported<T>(t: &Token, what: &str) -> Result<T, Error> {
     err(t.col, t.len, format!("{what} is not supported by servoscope yet"))
 }
 
-fn label_target(ts: &[Token], at: &mut usize, names: &Names) -> Result<u32, Error> {
-    let Some(t) = ts.get(*at) else {
+/// The target of a GOTO or CALL (spec §5.7): a label, a 16-bit datum holding a program address
+/// (a variable known at this point is the variable, else a label), or a number that must be a
+/// statement's address.
+fn jump_target(ts: &[Token], at: &mut usize, names: &mut Names) -> Result<Target, Error> {
+    let Some(t) = ts.get(*at).cloned() else {
         let col = ts.last().map_or(1, |t| t.col + t.len);
         return err(col, 1, "expected a label");
     };
     match &t.tok {
-        Tok::Ident(name) => match names.labels.get(&name.to_ascii_uppercase()) {
-            Some(&(target, _)) => {
-                *at += 1;
-                Ok(target)
+        Tok::Ident(name) => {
+            let upper = name.to_ascii_uppercase();
+            if names.var_index.contains_key(&upper) || predefined(name).is_some() {
+                let via = names.operand(ts, at)?;
+                if via.bits() != 16 {
+                    return err(t.col, t.len, format!(
+                        "{} is 32-bit: a jump through data needs a 16-bit datum holding a program address",
+                        datum_name(&via, names)
+                    ));
+                }
+                return Ok(Target::Via(via));
             }
-            None if names.var_index.contains_key(&name.to_ascii_uppercase())
-                || predefined(name).is_some() =>
-            {
-                not_supported(t, "a jump to an address held in a variable")
+            match names.labels.get(&upper) {
+                Some(&(target, _)) => {
+                    *at += 1;
+                    Ok(Target::Statement(target))
+                }
+                None => {
+                    if let Some(message) = unmodelled(name) {
+                        return err(t.col, t.len, message);
+                    }
+                    let hint = names
+                        .suggester
+                        .suggest(name, names.labels.keys().map(String::as_str))
+                        .map(|s| format!(" (did you mean '{}'?)", s.to_ascii_lowercase()))
+                        .unwrap_or_default();
+                    err(t.col, t.len, format!("undefined label '{name}'{hint}"))
+                }
             }
-            None => {
-                let hint = names
-                    .suggester
-                    .suggest(name, names.labels.keys().map(String::as_str))
-                    .map(|s| format!(" (did you mean '{}'?)", s.to_ascii_lowercase()))
-                    .unwrap_or_default();
-                err(t.col, t.len, format!("undefined label '{name}'{hint}"))
+        }
+        Tok::Int(..) | Tok::Punct("-") | Tok::BadNumber(_) | Tok::Fixed(_) => match count_number(ts, at) {
+            Some(Ok(n)) if !n.fixed && (0..=0xFFFF).contains(&n.value) => {
+                names.pending = Some(Fixup::JumpAddress {
+                    address: n.value as u32,
+                    col: n.col,
+                    len: n.len,
+                });
+                Ok(Target::Statement(0))
             }
+            Some(Ok(n)) => err(n.col, n.len, "a jump address is a number 0..0xFFFF"),
+            Some(Err(e)) => Err(e),
+            None => err(t.col, t.len, "expected a label"),
         },
-        Tok::Int(..) => not_supported(t, "a jump to a numeric address"),
         _ => err(t.col, t.len, "expected a label"),
     }
 }
@@ -834,10 +878,22 @@ fn assignment(ts: &[Token], at: &mut usize, names: &mut Names, lhs: Operand, lhs
         return err(before.col + before.len, 1, "expected a value after '='");
     };
     if let Tok::Ident(name) = &t.tok
-        && names.labels.contains_key(&name.to_ascii_uppercase())
+        && let Some(&(target, _)) = names.labels.get(&name.to_ascii_uppercase())
         && !names.var_index.contains_key(&name.to_ascii_uppercase())
     {
-        return not_supported(&t, "the address of a label (var = label)");
+        // `W16 = label` stores the label's program address (spec §5.11).
+        if negate {
+            return err(t.col, t.len, format!("'{name}' is a label: its address cannot be negated"));
+        }
+        if lhs.bits() != 16 {
+            return err(t.col, t.len, format!(
+                "a label's address is 16-bit: {} is 32-bit (assign it to an int, or to X(L))",
+                datum_name(&lhs, names)
+            ));
+        }
+        *at += 1;
+        names.pending = Some(Fixup::LabelAddress(target));
+        return Ok(Op::Assign(lhs, Value::Imm(0)));
     }
     if matches!(t.tok, Tok::Punct("(")) {
         return not_supported(&t, "addressing through a variable ((var),dm)");
@@ -921,7 +977,7 @@ fn mnemonic(ts: &[Token], names: &mut Names, upper: &str) -> Result<Op, Error> {
     let first = &ts[0];
     let op = match upper {
         "GOTO" | "CALL" => {
-            let target = label_target(ts, &mut at, names)?;
+            let target = jump_target(ts, &mut at, names)?;
             let cond = if punct(ts, at, ",") {
                 at += 1;
                 if at >= ts.len() {
@@ -945,10 +1001,10 @@ fn mnemonic(ts: &[Token], names: &mut Names, upper: &str) -> Result<Op, Error> {
             } else {
                 None
             };
-            Op::Jump {
-                target,
-                call: upper == "CALL",
-                cond,
+            let call = upper == "CALL";
+            match target {
+                Target::Statement(target) => Op::Jump { target, call, cond },
+                Target::Via(via) => Op::JumpVia { via, call, cond },
             }
         }
         "RET" => Op::Ret,
@@ -1078,11 +1134,174 @@ fn event(ts: &[Token], names: &mut Names) -> Result<Op, Error> {
     Ok(Op::SetEvent(spec))
 }
 
-/// Assemble TML text.
+/// One line of the program in inclusion order: its program line (file and line, see
+/// [`Project`]) and its characters.
+struct SourceLine {
+    line: usize,
+    chars: Vec<char>,
+}
+
+/// What a line starting with `#` holds (spec §1.1).
+enum Directive {
+    Include(String),
+    /// A malformed or unsupported directive: column, length, message.
+    Bad(usize, usize, String),
+}
+
+/// The directive on `chars`, if its first non-blank character is `#`.
+fn directive(chars: &[char]) -> Option<Directive> {
+    let hash = chars.iter().position(|c| !c.is_whitespace())?;
+    if chars[hash] != '#' {
+        return None;
+    }
+    let text: String = chars.iter().collect();
+    // A trailing `//` comment is allowed, but not inside the quoted path.
+    let mut end = chars.len();
+    let mut quoted = false;
+    for k in hash..chars.len() {
+        match chars[k] {
+            '"' => quoted = !quoted,
+            '/' if !quoted && chars.get(k + 1) == Some(&'/') => {
+                end = k;
+                break;
+            }
+            _ => {}
+        }
+    }
+    let after_hash: String = chars[hash + 1..end].iter().collect();
+    let lead = after_hash.len() - after_hash.trim_start().len();
+    let word: String = after_hash
+        .trim_start()
+        .chars()
+        .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+        .collect();
+    let word_col = hash + 2 + lead;
+    if !word.eq_ignore_ascii_case("include") {
+        let shown = if word.is_empty() { "#".to_string() } else { format!("#{word}") };
+        return Some(Directive::Bad(
+            hash + 1,
+            1 + lead + word.len(),
+            format!("{shown} is not supported by servoscope yet (only #include)"),
+        ));
+    }
+    let malformed = || Directive::Bad(hash + 1, end.saturating_sub(hash).max(1), "malformed #include: write #include \"path\"".into());
+    let rest = after_hash.trim_start()[word.len()..].trim();
+    let Some(inner) = rest.strip_prefix('"').and_then(|r| r.strip_suffix('"')) else {
+        return Some(malformed());
+    };
+    if inner.contains('"') {
+        return Some(malformed());
+    }
+    if inner.trim().is_empty() {
+        return Some(Directive::Bad(word_col, word.len(), "empty #include path".into()));
+    }
+    let _ = text;
+    Some(Directive::Include(inner.to_string()))
+}
+
+/// The paths `text` includes with well-formed `#include` lines, in order: what a loader reads
+/// from disk before assembling.
+pub fn includes(text: &str) -> Vec<String> {
+    crate::text::normalize(text)
+        .lines()
+        .filter_map(|l| match directive(&l.chars().collect::<Vec<_>>()) {
+            Some(Directive::Include(path)) => Some(path),
+            _ => None,
+        })
+        .collect()
+}
+
+/// The lines of file `file` with its includes expanded in place (spec §1.1), appended to `out`.
+fn expand(
+    project: &Project,
+    file: usize,
+    chain: &mut Vec<usize>,
+    out: &mut Vec<SourceLine>,
+    errors: &mut Vec<Diagnostic>,
+) {
+    let text = crate::text::normalize(&project.files[file].text);
+    chain.push(file);
+    for (i, l) in text.lines().enumerate() {
+        let line = Project::line(file, i + 1);
+        if i + 1 >= crate::machine::project::FILE_LINES {
+            errors.push(Diagnostic::error(line, 1, 1, "file too long: servoscope reads at most 1048575 lines of a file"));
+            break;
+        }
+        let chars: Vec<char> = l.chars().collect();
+        match directive(&chars) {
+            None => out.push(SourceLine { line, chars }),
+            Some(Directive::Bad(col, len, message)) => errors.push(Diagnostic::error(line, col, len, message)),
+            Some(Directive::Include(path)) => {
+                let col = chars.iter().position(|&c| c == '"').map_or(1, |k| k + 1);
+                let len = path.chars().count() + 2;
+                let name = crate::machine::project::resolve_include(&project.files[file].name, &path);
+                let Some(target) = project.index_of(&name) else {
+                    errors.push(Diagnostic::error(line, col, len, format!("cannot open included file '{path}'")));
+                    continue;
+                };
+                if chain.contains(&target) {
+                    let names: Vec<&str> = chain
+                        .iter()
+                        .skip_while(|&&f| f != target)
+                        .map(|&f| project.files[f].name.as_str())
+                        .chain([project.files[target].name.as_str()])
+                        .collect();
+                    errors.push(Diagnostic::error(line, col, len, format!("'{path}' includes itself ({})", names.join(" -> "))));
+                    continue;
+                }
+                if chain.len() > crate::machine::project::MAX_INCLUDE_DEPTH {
+                    errors.push(Diagnostic::error(line, col, len, format!(
+                        "more than {} nested #include levels below the top file",
+                        crate::machine::project::MAX_INCLUDE_DEPTH
+                    )));
+                    continue;
+                }
+                expand(project, target, chain, out, errors);
+            }
+        }
+    }
+    chain.pop();
+}
+
+/// Program-memory words of a statement (spec §5.11); `srbl` when it was written `SRBL`.
+fn words_of(op: &Op, srbl: bool) -> u8 {
+    match op {
+        Op::Nop | Op::End | Op::Ret | Op::Upd | Op::Stop | Op::Axis(_) | Op::ShiftProduct { .. } => 1,
+        Op::Wait(None) | Op::SetEvent(EventSpec::MotionComplete) | Op::Sap(Value::Var(_)) => 1,
+        Op::Wait(Some(_)) | Op::SetEvent(EventSpec::Time(Value::Var(_))) | Op::Sap(Value::Imm(_)) => 3,
+        Op::SetEvent(EventSpec::Time(Value::Imm(_))) => 4,
+        Op::SetEvent(EventSpec::Input(..)) => 2,
+        Op::Assign(dst, Value::Imm(_)) | Op::Add { dst, src: Value::Imm(_), .. } => {
+            if dst.bits() == 16 { 2 } else { 3 }
+        }
+        Op::Assign(_, Value::Var(_)) | Op::Negate(..) | Op::Add { .. } | Op::Shift { .. } => 2,
+        Op::AssignShift { .. } | Op::Multiply { .. } | Op::Divide(..) => 3,
+        Op::Srb { .. } => if srbl { 4 } else { 3 },
+        Op::ModePp | Op::Relative(_) | Op::Tum(_) => 3,
+        Op::Jump { cond: None, .. } | Op::JumpVia { cond: None, .. } => 2,
+        Op::Jump { .. } | Op::JumpVia { .. } => 3,
+    }
+}
+
+/// Assemble the TML text of a one-file program.
 pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
-    let text = crate::text::normalize(source);
-    let lines: Vec<Vec<char>> = text.lines().map(|l| l.chars().collect()).collect();
+    assemble_project(&Project::single("", source))
+}
+
+/// Assemble a program of several files: the top file with its `#include` files expanded.
+pub fn assemble_project(project: &Project) -> Result<Program, Vec<Diagnostic>> {
     let mut errors: Vec<Diagnostic> = Vec::new();
+    let mut lines: Vec<SourceLine> = Vec::new();
+    if !project.files.is_empty() {
+        expand(project, 0, &mut Vec::new(), &mut lines, &mut errors);
+    }
+    let describe = |line: usize| {
+        if project.is_multi() {
+            format!("at {}", project.describe(line))
+        } else {
+            format!("on line {line}")
+        }
+    };
 
     // Pass 1: where each line's statements begin (comments and labels taken off), and labels.
     struct Line {
@@ -1092,11 +1311,13 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
     }
     let mut bodies = Vec::with_capacity(lines.len());
     let mut labels: HashMap<String, (u32, usize)> = HashMap::new();
-    let mut label_list = Vec::new();
+    // (name, line, index into `lines`)
+    let mut label_list: Vec<(String, usize, usize)> = Vec::new();
     let mut stmt_count_before: Vec<u32> = Vec::with_capacity(lines.len());
     let mut count: u32 = 0;
-    for (i, chars) in lines.iter().enumerate() {
-        let line_no = i + 1;
+    for (idx, source_line) in lines.iter().enumerate() {
+        let line_no = source_line.line;
+        let chars = &source_line.chars;
         let mut end = chars.len();
         for k in 0..chars.len().saturating_sub(1) {
             if chars[k] == '/' && chars[k + 1] == '/' {
@@ -1138,11 +1359,11 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
             } else if reserved(&upper) {
                 errors.push(Diagnostic::error(line_no, 1, name.len(), format!("'{name}' is a TML name and cannot be a label")));
             } else if let Some(&(_, first)) = labels.get(&upper) {
-                errors.push(Diagnostic::error(line_no, 1, name.len(), format!("duplicate label '{name}' (first on line {first})")));
+                errors.push(Diagnostic::error(line_no, 1, name.len(), format!("duplicate label '{name}' (first {})", describe(first))));
             } else {
                 // Its statement index is fixed once this line's statements are counted.
                 labels.insert(upper, (u32::MAX, line_no));
-                label_list.push((name.to_string(), line_no));
+                label_list.push((name.to_string(), line_no, idx));
             }
             body = &code[colon + 1..];
             body_col = colon + 2;
@@ -1166,8 +1387,8 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
         }));
     }
     // Labels point at the first statement at or after their line.
-    for (name, line_no) in &label_list {
-        let index = stmt_count_before[*line_no - 1];
+    for (name, _, idx) in &label_list {
+        let index = stmt_count_before[*idx];
         if let Some(entry) = labels.get_mut(&name.to_ascii_uppercase()) {
             entry.0 = index;
         }
@@ -1178,15 +1399,17 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
         vars: Vec::new(),
         var_index: HashMap::new(),
         labels: &labels,
+        pending: None,
         used: Vec::new(),
         used_inputs: Vec::new(),
         uses_preg: false,
         suggester: Suggester::default(),
     };
     let mut stmts = Vec::new();
-    for (i, line) in bodies.iter().enumerate() {
+    let mut fixups: Vec<(usize, Fixup)> = Vec::new();
+    for (idx, line) in bodies.iter().enumerate() {
         let Some(line) = line else { continue };
-        let line_no = i + 1;
+        let line_no = lines[idx].line;
         let mut start = 0;
         for k in statement_ends(&line.body) {
             let seg = &line.body[start..k];
@@ -1197,6 +1420,7 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
             }
             let ts = lex(seg, seg_col);
             let lead = seg.iter().take_while(|c| c.is_whitespace()).count();
+            names.pending = None;
             let parsed = match ts.first().map(|t| &t.tok) {
                 Some(Tok::Punct("[" | "{")) => Err(multi_axis(&ts, seg)),
                 Some(Tok::Punct("@")) => not_supported(
@@ -1206,12 +1430,19 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
                 _ => statement(&ts, &mut names, line_no),
             };
             match parsed {
-                Ok(Some(op)) => stmts.push(Stmt {
-                    op,
-                    line: line_no,
-                    col: seg_col + lead,
-                    text: seg.iter().collect::<String>().trim().to_string(),
-                }),
+                Ok(Some(op)) => {
+                    let srbl = matches!(ts.first().map(|t| &t.tok), Some(Tok::Ident(w)) if w.eq_ignore_ascii_case("SRBL"));
+                    if let Some(fixup) = names.pending.take() {
+                        fixups.push((stmts.len(), fixup));
+                    }
+                    stmts.push(Stmt {
+                        words: words_of(&op, srbl),
+                        op,
+                        line: line_no,
+                        col: seg_col + lead,
+                        text: seg.iter().collect::<String>().trim().to_string(),
+                    });
+                }
                 Ok(None) => {}
                 Err(e) => errors.push(Diagnostic::error(line_no, e.col.max(1), e.len, e.message)),
             }
@@ -1223,15 +1454,55 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
             errors.push(Diagnostic::error(line_no, col, 1, "expected ';' at the end of the statement"));
         }
     }
+
+    // Program memory (spec §5.11): each statement's address, then what needed them.
+    let mut addresses = Vec::with_capacity(stmts.len());
+    let mut next = super::PROGRAM_BASE;
+    for stmt in &stmts {
+        addresses.push(next);
+        next += u32::from(stmt.words);
+    }
+    let end_address = next;
+    let address_of = |index: u32| addresses.get(index as usize).copied().unwrap_or(end_address);
+    for (at, fixup) in fixups {
+        let line = stmts[at].line;
+        match fixup {
+            Fixup::LabelAddress(target) => {
+                if let Op::Assign(_, Value::Imm(v)) = &mut stmts[at].op {
+                    *v = i64::from(address_of(target));
+                }
+            }
+            Fixup::JumpAddress { address, col, len } => {
+                let index = if address == end_address {
+                    Some(stmts.len() as u32)
+                } else {
+                    addresses.binary_search(&address).ok().map(|i| i as u32)
+                };
+                match (index, &mut stmts[at].op) {
+                    (Some(i), Op::Jump { target, .. }) => *target = i,
+                    _ => errors.push(Diagnostic::error(line, col, len, format!("no statement starts at 0x{address:04X}"))),
+                }
+            }
+        }
+    }
+    if end_address > 0x1_0000 {
+        let line = stmts.last().map_or(1, |s| s.line);
+        errors.push(Diagnostic::error(line, 1, 1, format!(
+            "the program needs {} words from 0x4000: more than program memory's 16-bit addresses reach",
+            end_address - super::PROGRAM_BASE
+        )));
+    }
     if !errors.is_empty() {
-        errors.sort_by_key(|e| (e.line, e.col));
+        // A file included twice repeats its diagnostics: each is reported once.
+        errors.sort_by(|a, b| (a.line, a.col, &a.message).cmp(&(b.line, b.col, &b.message)));
+        errors.dedup();
         return Err(errors);
     }
-    let mut labels: Vec<(String, u32)> = label_list
+    let mut label_entries: Vec<(String, u32, usize)> = label_list
         .iter()
-        .map(|(name, _)| (name.clone(), names.labels[&name.to_ascii_uppercase()].0))
+        .map(|(name, line, _)| (name.clone(), names.labels[&name.to_ascii_uppercase()].0, *line))
         .collect();
-    labels.sort_by_key(|(_, at)| *at);
+    label_entries.sort_by_key(|(_, at, _)| *at);
     let mut used = names.used;
     used.sort_unstable();
     let mut used_inputs = names.used_inputs;
@@ -1242,7 +1513,15 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
         flat,
         stmts,
         vars: names.vars,
-        labels,
+        files: if project.is_multi() {
+            project.files.iter().map(|f| f.name.clone()).collect()
+        } else {
+            Vec::new()
+        },
+        label_lines: label_entries.iter().map(|(_, _, line)| *line).collect(),
+        labels: label_entries.into_iter().map(|(name, at, _)| (name, at)).collect(),
+        addresses,
+        end_address,
         used,
         uses_preg: names.uses_preg,
         used_inputs,

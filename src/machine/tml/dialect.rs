@@ -67,6 +67,8 @@ pub static DIALECT: Dialect = Dialect {
     empty_program: "",
     error_flags: "MER, motion error register",
     open,
+    open_project: Some(open_project),
+    includes: Some(super::assembler::includes),
     classify: super::syntax::classify,
     #[cfg(feature = "gui")]
     panels: super::panels::panels,
@@ -79,4 +81,9 @@ pub fn machine(source: &str) -> Result<Tml, Vec<crate::machine::Diagnostic>> {
 
 fn open(source: &str, _settings: &Settings) -> OpenResult {
     machine(source).map(crate::debugger::engine)
+}
+
+fn open_project(project: &crate::machine::project::Project, _settings: &Settings) -> OpenResult {
+    let program = super::assembler::assemble_project(project)?;
+    Ok(crate::debugger::engine(Tml::new(Arc::new(program))))
 }

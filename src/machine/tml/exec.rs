@@ -39,6 +39,9 @@ impl Tml {
         match data {
             Data::Pre(d::PROD) => self.preg as u32,
             Data::Pre(d::PRODH) => (self.preg >> 16) as u32,
+            // Both follow other state (spec §2.2), so they are read from it.
+            Data::Pre(d::RTIME) => self.data[d::ATIME as usize].wrapping_sub(self.time0),
+            Data::Pre(d::MCR) => self.mcr(),
             Data::Pre(i) => self.data[i as usize],
             Data::Var(v) => self.vars[v as usize],
         }
@@ -184,6 +187,34 @@ impl Tml {
                     next = target;
                 }
             }
+            Op::JumpVia { via, call, cond } => {
+                let taken = match cond {
+                    Some((x, c)) => {
+                        let v = self.read_operand(&x);
+                        vals[0] = v;
+                        c.holds(v)
+                    }
+                    None => true,
+                };
+                let address = self.read_operand(&via) as u16;
+                vals[1] = i64::from(taken);
+                vals[2] = i64::from(address);
+                if taken {
+                    // The address comes before CALL's stack check (spec §5.7).
+                    let Some(to) = self.program.statement_at(u32::from(address)) else {
+                        return Outcome::Fault(Fault::BadAddress { address, call });
+                    };
+                    if call {
+                        if self.stack.len() >= STACK_DEPTH {
+                            self.data[d::MER as usize] |= mer::COMMAND_ERROR;
+                            self.data[d::DER as usize] |= der::STACK_OVERFLOW;
+                            return Outcome::Fault(Fault::StackOverflow);
+                        }
+                        self.stack.push(self.pc + 1);
+                    }
+                    next = to as u32;
+                }
+            }
             Op::Ret => match self.stack.pop() {
                 Some(back) => next = back,
                 None => {
@@ -233,10 +264,13 @@ impl Tml {
             Op::SetEvent(spec) => {
                 self.event = Some(match spec {
                     EventSpec::MotionComplete => Event::MotionComplete,
-                    EventSpec::Time(v) => Event::Time {
-                        after: self.value(&v),
-                        time0: sx32(self.data[d::ATIME as usize]),
-                    },
+                    EventSpec::Time(v) => {
+                        self.time0 = self.data[d::ATIME as usize];
+                        Event::Time {
+                            after: self.value(&v),
+                            time0: sx32(self.time0),
+                        }
+                    }
                     EventSpec::Input(input, level) => Event::Input { input, level },
                 });
                 self.srl_set(srl::EVENT, false);
@@ -297,7 +331,9 @@ impl Tml {
         self.profile.advance();
         let tpos = self.profile.position();
         self.data[d::TPOS as usize] = tpos as u32;
-        self.data[d::TSPD as usize] = self.profile.v as u32;
+        let tspd = self.profile.v as u32;
+        self.data[d::TACC as usize] = tspd.wrapping_sub(self.data[d::TSPD as usize]);
+        self.data[d::TSPD as usize] = tspd;
         let apos = self.data[d::APOS as usize] as i32;
         if self.data[d::SRL as usize] & srl::AXIS_ON != 0 {
             let r = i64::from(tpos.wrapping_sub(apos));
@@ -309,8 +345,15 @@ impl Tml {
         }
         let err = tpos.wrapping_sub(self.data[d::APOS as usize] as i32);
         self.data[d::POSERR as usize] = err.clamp(-32768, 32767) as u32 & 0xFFFF;
-        let active = self.profile.active;
-        self.srl_set(srl::MOTION_COMPLETE, !active);
+        // The in-position count and motion complete (spec §6.1).
+        let band = i64::from(self.data[d::POSOKLIM as usize] as u16);
+        self.in_position = if !self.profile.active && i64::from(err).abs() <= band {
+            self.in_position.saturating_add(1)
+        } else {
+            0
+        };
+        let complete = self.motion_complete();
+        self.srl_set(srl::MOTION_COMPLETE, complete);
         // 4. time
         self.data[d::ATIME as usize] = self.data[d::ATIME as usize].wrapping_add(1);
         // 5. the programmed event
@@ -318,7 +361,7 @@ impl Tml {
             && self.data[d::SRL as usize] & srl::EVENT == 0
         {
             let occurred = match event {
-                Event::MotionComplete => !active,
+                Event::MotionComplete => complete,
                 Event::Time { after, time0 } => sx32(self.data[d::ATIME as usize]) - time0 >= after,
                 Event::Input { input, level } => self.input(input.into()) == level,
             };

@@ -164,6 +164,21 @@ pub fn explain(m: &Tml) -> Option<String> {
                 None => format!("{verb}: jumped"),
             }
         }
+        Op::JumpVia { via, call, cond } => {
+            let verb = if call { "CALL" } else { "GOTO" };
+            let address = r as u16;
+            let whither = match m.program.statement_at(u32::from(address)) {
+                Some(i) if i < m.program.stmts.len() => format!("0x{address:04X} ('{}')", m.program.stmts[i].text),
+                Some(_) => format!("0x{address:04X}, the end of the program"),
+                None => format!("0x{address:04X}"),
+            };
+            let through = format!("through {} = {whither}", name(m, &via));
+            match cond {
+                Some((x, c)) if b == 0 => format!("{verb} {through}: {} = {a} {} does not hold: went on", name(m, &x), c.symbol()),
+                Some((x, c)) => format!("{verb} {through}: {} = {a} {} holds: jumped", name(m, &x), c.symbol()),
+                None => format!("{verb} {through}: jumped"),
+            }
+        }
         Op::Ret => "RET: back after the CALL".into(),
         Op::End => "END: the program ended".into(),
         Op::ModePp => "MODE PP: trapezoidal position profile (TUM0)".into(),

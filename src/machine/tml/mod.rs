@@ -36,34 +36,54 @@ pub const STACK_DEPTH: usize = 11;
 pub const TICK_MICROS: u32 = 1000;
 pub const INPUTS: usize = 16;
 
-/// The predefined data of spec §2, in the order views and the runner list them.
+/// The predefined data of spec §2 (tables A and B), in the order views and the runner list them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Predefined {
     pub name: &'static str,
     pub alias: Option<&'static str>,
     pub ty: Ty,
     pub writable: bool,
+    /// The word address in the drive's data memory (spec §2.1, §2.2).
+    pub address: u16,
+    /// Table B: in the runner's registers only when the program names it (spec §9).
+    pub table_b: bool,
+    /// What the datum means; for table B also whether it has a behaviour or is storage only.
     pub description: &'static str,
 }
 
 pub const PREDEFINED: &[Predefined] = &[
-    pre("CPOS", None, Ty::Long, true, "command position (relative or absolute)"),
-    pre("CSPD", None, Ty::Fixed, true, "command (slew) speed, counts/tick"),
-    pre("CACC", None, Ty::Fixed, true, "command acceleration, counts/tick²"),
-    pre("TPOS", None, Ty::Long, false, "target position from the profile"),
-    pre("TSPD", None, Ty::Fixed, false, "target speed"),
-    pre("APOS", Some("APOS_LD"), Ty::Long, false, "actual position"),
-    pre("ASPD", Some("ASPD_MT"), Ty::Fixed, false, "actual speed"),
-    pre("POSERR", None, Ty::Int, false, "TPOS − APOS, clamped to 16 bits"),
-    pre("ATIME", None, Ty::Long, false, "absolute time: ticks completed"),
-    pre("SRL", None, Ty::Uint, false, "status register low"),
-    pre("SRH", None, Ty::Uint, false, "status register high (always 0 here)"),
-    pre("MER", None, Ty::Uint, false, "motion error register"),
-    pre("DER", None, Ty::Uint, false, "drive error register"),
-    pre("UPGRADE", None, Ty::Int, true, "stored only"),
-    pre("FLAGUV", None, Ty::Int, false, "under-voltage flag, always 0"),
-    pre("PROD", None, Ty::Long, false, "bits 31..0 of the product register"),
-    pre("PRODH", None, Ty::Long, false, "bits 47..16 of the product register"),
+    pre("CPOS", None, Ty::Long, true, 0x029E, "command position (relative or absolute)"),
+    pre("CSPD", None, Ty::Fixed, true, 0x02A0, "command (slew) speed, counts/tick"),
+    pre("CACC", None, Ty::Fixed, true, 0x02A2, "command acceleration, counts/tick²"),
+    pre("TPOS", None, Ty::Long, false, 0x02B2, "target position from the profile"),
+    pre("TSPD", None, Ty::Fixed, false, 0x02B4, "target speed"),
+    pre("APOS", Some("APOS_LD"), Ty::Long, false, 0x0228, "actual position"),
+    pre("ASPD", Some("ASPD_MT"), Ty::Fixed, false, 0x022C, "actual speed"),
+    pre("POSERR", None, Ty::Int, false, 0x022A, "TPOS − APOS, clamped to 16 bits"),
+    pre("ATIME", None, Ty::Long, false, 0x02C0, "absolute time: ticks completed"),
+    pre("SRL", None, Ty::Uint, false, 0x090E, "status register low"),
+    pre("SRH", None, Ty::Uint, false, 0x090F, "status register high (always 0 here)"),
+    pre("MER", None, Ty::Uint, false, 0x08FC, "motion error register"),
+    pre("DER", None, Ty::Uint, false, 0x03AD, "drive error register"),
+    pre("UPGRADE", None, Ty::Int, true, 0x0857, "bit 11 selects the in-position rule for motion complete; other bits stored only"),
+    pre("FLAGUV", None, Ty::Int, false, 0x02FB, "under-voltage flag, always 0"),
+    pre("PROD", None, Ty::Long, false, 0x030E, "bits 31..0 of the product register"),
+    pre("PRODH", None, Ty::Long, false, 0x030F, "bits 47..16 of the product register"),
+    // Table B.
+    b("TACC", Ty::Fixed, false, 0x02B6, "behaviour: the change of TSPD in the last tick"),
+    b("RTIME", Ty::Long, false, 0x02C2, "behaviour: ATIME − TIME0 (TIME0 set by the last !RT, else 0)"),
+    b("MCR", Ty::Uint, false, 0x0309, "behaviour: motion command register, written by MODE PP, CPA/CPR, TUM0/TUM1"),
+    b("POSOKLIM", Ty::Uint, true, 0x036A, "behaviour: in-position band in counts (with UPGRADE bit 11)"),
+    b("TONPOSOK", Ty::Uint, true, 0x036B, "behaviour: in-position time in ticks (with UPGRADE bit 11)"),
+    b("VAR_I1", Ty::Int, true, 0x0366, "storage only (scratch of generated code)"),
+    b("VAR_I2", Ty::Int, true, 0x0367, "storage only (scratch of generated code)"),
+    b("VAR_I3", Ty::Int, true, 0x0979, "storage only (scratch of generated code)"),
+    b("VAR_LF", Ty::Long, true, 0x0368, "storage only (scratch of generated code)"),
+    b("DoTMLInitializations", Ty::Int, true, 0x09C0, "storage only (0: EasyMotion's setup goes on to ENDINIT)"),
+    b("ExecuteMain", Ty::Uint, true, 0x09BF, "storage only: a label address for the firmware"),
+    b("ExecuteAutotuning", Ty::Uint, true, 0x0998, "storage only: a label address for the firmware"),
+    b("HOMINGTABLE_POINTER", Ty::Uint, true, 0x09C1, "storage only: the homing table's address"),
+    b("FUNCTIONTABLE_POINTER", Ty::Uint, true, 0x09C9, "storage only: the function table's address"),
 ];
 
 /// Aliases beyond the one each datum shows (spec §2.1: APOS is also APOS_MT, ASPD also
@@ -83,6 +103,7 @@ const fn pre(
     alias: Option<&'static str>,
     ty: Ty,
     writable: bool,
+    address: u16,
     description: &'static str,
 ) -> Predefined {
     Predefined {
@@ -90,7 +111,22 @@ const fn pre(
         alias,
         ty,
         writable,
+        address,
+        table_b: false,
         description,
+    }
+}
+
+const fn b(
+    name: &'static str,
+    ty: Ty,
+    writable: bool,
+    address: u16,
+    description: &'static str,
+) -> Predefined {
+    Predefined {
+        table_b: true,
+        ..pre(name, None, ty, writable, address, description)
     }
 }
 
@@ -113,7 +149,21 @@ pub mod d {
     pub const FLAGUV: u8 = 14;
     pub const PROD: u8 = 15;
     pub const PRODH: u8 = 16;
-    pub const COUNT: usize = 17;
+    pub const TACC: u8 = 17;
+    pub const RTIME: u8 = 18;
+    pub const MCR: u8 = 19;
+    pub const POSOKLIM: u8 = 20;
+    pub const TONPOSOK: u8 = 21;
+    pub const VAR_I1: u8 = 22;
+    pub const VAR_I2: u8 = 23;
+    pub const VAR_I3: u8 = 24;
+    pub const VAR_LF: u8 = 25;
+    pub const DO_TML_INITIALIZATIONS: u8 = 26;
+    pub const EXECUTE_MAIN: u8 = 27;
+    pub const EXECUTE_AUTOTUNING: u8 = 28;
+    pub const HOMINGTABLE_POINTER: u8 = 29;
+    pub const FUNCTIONTABLE_POINTER: u8 = 30;
+    pub const COUNT: usize = 31;
 }
 
 pub mod srl {
@@ -121,6 +171,19 @@ pub mod srl {
     pub const EVENT: u32 = 1 << 14;
     pub const AXIS_ON: u32 = 1 << 15;
 }
+/// UPGRADE bit 11: motion complete waits for the in-position rule (spec §6.1).
+pub const UPGRADE_IN_POSITION: u32 = 1 << 11;
+
+/// MCR as spec §2.2 builds it.
+pub mod mcr {
+    pub const MODE_PP: u32 = 0x8701;
+    pub const ABSOLUTE: u32 = 0x2000;
+    pub const TUM1: u32 = 0x4000;
+}
+
+/// Where the program is loaded in the drive's program memory (spec §5.11).
+pub const PROGRAM_BASE: u32 = 0x4000;
+
 pub mod mer {
     pub const COMMAND_ERROR: u32 = 1 << 14;
 }
@@ -175,6 +238,8 @@ pub struct LastMultiply {
 pub enum Fault {
     StackOverflow,
     StackUnderflow,
+    /// A jump through a variable to an address where no statement starts (spec §5.7).
+    BadAddress { address: u16, call: bool },
 }
 
 impl Fault {
@@ -182,12 +247,17 @@ impl Fault {
         match self {
             Fault::StackOverflow => "stack_overflow",
             Fault::StackUnderflow => "stack_underflow",
+            Fault::BadAddress { .. } => "bad_address",
         }
     }
-    pub fn message(self) -> &'static str {
+    pub fn message(self) -> String {
         match self {
-            Fault::StackOverflow => "CALL with 11 return points already on the TML stack",
-            Fault::StackUnderflow => "RET with no CALL to return to",
+            Fault::StackOverflow => "CALL with 11 return points already on the TML stack".into(),
+            Fault::StackUnderflow => "RET with no CALL to return to".into(),
+            Fault::BadAddress { address, call } => format!(
+                "{} through a variable to 0x{address:04X}, where no statement starts",
+                if call { "CALL" } else { "GOTO" }
+            ),
         }
     }
 }
@@ -221,6 +291,10 @@ pub struct Tml {
     pub last: Option<u32>,
     pub last_vals: [i64; 3],
     pub last_multiply: Option<LastMultiply>,
+    /// ATIME when the last `!RT` was set (TIME0 of spec §5.9), raw; RTIME counts from it.
+    pub time0: u32,
+    /// The in-position count n of spec §6.1.
+    pub in_position: u16,
 }
 
 impl Tml {
@@ -251,6 +325,8 @@ impl Tml {
             last: None,
             last_vals: [0; 3],
             last_multiply: None,
+            time0: 0,
+            in_position: u16::MAX,
         }
     }
 
@@ -266,5 +342,38 @@ impl Tml {
     /// Whether `WAIT!` is waiting now, and for how many ticks already.
     pub fn waiting(&self) -> Option<u64> {
         self.wait_since.map(|t0| self.tick.saturating_sub(t0))
+    }
+
+    /// MCR (spec §2.2): written by MODE PP, CPA/CPR and TUM0/TUM1, so read from their state.
+    pub fn mcr(&self) -> u32 {
+        let mut v = 0;
+        if self.mode_pp {
+            v |= mcr::MODE_PP;
+        }
+        if !self.relative {
+            v |= mcr::ABSOLUTE;
+        }
+        if self.tum1 {
+            v |= mcr::TUM1;
+        }
+        v
+    }
+
+    /// Whether UPGRADE bit 11 makes motion complete wait for the in-position rule (§6.1).
+    pub fn in_position_rule(&self) -> bool {
+        self.data[d::UPGRADE as usize] & UPGRADE_IN_POSITION != 0
+    }
+
+    /// Motion complete by spec §6.1: no profile active and, under UPGRADE bit 11, the
+    /// in-position count has reached TONPOSOK (at least 1).
+    pub fn motion_complete(&self) -> bool {
+        if self.profile.active {
+            return false;
+        }
+        if !self.in_position_rule() {
+            return true;
+        }
+        let needed = (self.data[d::TONPOSOK as usize] as u16).max(1);
+        self.in_position >= needed
     }
 }

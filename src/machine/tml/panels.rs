@@ -13,7 +13,182 @@ use crate::ui::panels::DialectPanel;
 use crate::ui::theme::palette;
 
 pub fn panels() -> Vec<Box<dyn DialectPanel>> {
-    vec![Box::new(ProductPanel), Box::new(DrivePanel)]
+    vec![
+        Box::new(ProductPanel),
+        Box::new(DrivePanel),
+        Box::new(DriveDataPanel),
+        Box::new(LabelsPanel),
+    ]
+}
+
+/// A datum's value as its type reads: uint unsigned, int and long signed, fixed as its exact
+/// decimal.
+fn typed_value(raw: u32, ty: super::Ty) -> String {
+    match ty {
+        super::Ty::Uint => format!("{} (0x{:04X})", raw & 0xFFFF, raw & 0xFFFF),
+        super::Ty::Int => (raw as u16 as i16).to_string(),
+        super::Ty::Long => (raw as i32).to_string(),
+        super::Ty::Fixed => q16_exact(i64::from(raw as i32)),
+    }
+}
+
+/// Tables A and B of spec §2 and the user variables, with type, address, value and access.
+pub struct DriveDataPanel;
+
+impl DialectPanel for DriveDataPanel {
+    fn title(&self) -> &'static str {
+        "Drive data"
+    }
+    fn show(&mut self, ui: &mut egui::Ui, debugger: &Debugger, _: f32, _: &mut Vec<Command>) {
+        let Some(m) = debugger.machine_as::<Tml>() else {
+            return;
+        };
+        let p = palette(ui.visuals().dark_mode);
+        egui::ScrollArea::both()
+            .id_salt("drive_data_scroll")
+            .auto_shrink([false, false])
+            .show(ui, |ui| {
+                let upgrade = m.data[d::UPGRADE as usize];
+                let mcr = m.mcr();
+                ui.label(
+                    RichText::new(format!(
+                        "MCR 0x{mcr:04X}: {}{}{}",
+                        if mcr & super::mcr::MODE_PP != 0 { "MODE PP" } else { "no mode" },
+                        if mcr & super::mcr::ABSOLUTE != 0 { ", CPA" } else { ", CPR" },
+                        if mcr & super::mcr::TUM1 != 0 { ", TUM1" } else { ", TUM0" },
+                    ))
+                    .monospace(),
+                );
+                let rule = m.in_position_rule();
+                ui.label(
+                    RichText::new(format!(
+                        "UPGRADE 0x{:04X}: bit 11 {} — {}",
+                        upgrade & 0xFFFF,
+                        u8::from(rule),
+                        if rule {
+                            format!(
+                                "motion complete waits {} tick(s) within ±{} counts; in position for {}",
+                                (m.data[d::TONPOSOK as usize] as u16).max(1),
+                                m.data[d::POSOKLIM as usize] as u16,
+                                m.in_position
+                            )
+                        } else {
+                            "motion complete follows the reference".to_string()
+                        }
+                    ))
+                    .monospace(),
+                );
+                ui.separator();
+                egui::Grid::new("tml_drive_data")
+                    .striped(true)
+                    .num_columns(6)
+                    .show(ui, |ui| {
+                        for h in ["name", "type", "address", "value", "access", "meaning"] {
+                            ui.label(RichText::new(h).strong());
+                        }
+                        ui.end_row();
+                        for (i, pre) in super::PREDEFINED.iter().enumerate() {
+                            let raw = m.raw(super::program::Data::Pre(i as u8));
+                            let name = match pre.alias {
+                                Some(a) => format!("{} ({a})", pre.name),
+                                None => pre.name.to_string(),
+                            };
+                            let table = if pre.table_b { " B" } else { "" };
+                            ui.label(RichText::new(name).monospace());
+                            ui.label(format!("{}{table}", pre.ty.name()));
+                            ui.label(RichText::new(format!("0x{:04X}", pre.address)).monospace());
+                            ui.label(RichText::new(typed_value(raw, pre.ty)).monospace());
+                            ui.label(if pre.writable { "rw" } else { "r" });
+                            ui.label(RichText::new(pre.description).color(p.dim));
+                            ui.end_row();
+                        }
+                        for ((v, &raw), address) in m
+                            .program
+                            .vars
+                            .iter()
+                            .zip(&m.vars)
+                            .zip(m.program.var_addresses())
+                        {
+                            ui.label(RichText::new(&v.name).monospace());
+                            ui.label(v.ty.name());
+                            ui.label(RichText::new(format!("0x{address:04X}")).monospace());
+                            ui.label(RichText::new(typed_value(raw, v.ty)).monospace());
+                            ui.label("rw");
+                            ui.label(
+                                RichText::new(format!(
+                                    "user variable, declared at {}",
+                                    debugger.where_line(v.line)
+                                ))
+                                .color(p.dim),
+                            );
+                            ui.end_row();
+                        }
+                    });
+            });
+    }
+}
+
+/// Every label: name, where it is written and its program-memory address (spec §5.11).
+pub struct LabelsPanel;
+
+impl DialectPanel for LabelsPanel {
+    fn title(&self) -> &'static str {
+        "Labels"
+    }
+    fn has_content(&self, debugger: &Debugger) -> bool {
+        debugger
+            .machine_as::<Tml>()
+            .is_some_and(|m| !m.program.labels.is_empty())
+    }
+    fn show(&mut self, ui: &mut egui::Ui, debugger: &Debugger, _: f32, out: &mut Vec<Command>) {
+        let Some(m) = debugger.machine_as::<Tml>() else {
+            return;
+        };
+        let p = palette(ui.visuals().dark_mode);
+        egui::ScrollArea::both()
+            .id_salt("labels_scroll")
+            .auto_shrink([false, false])
+            .show(ui, |ui| {
+                ui.label(
+                    RichText::new(format!(
+                        "Program memory 0x4000–0x{:04X} ({} words)",
+                        m.program.end_address,
+                        m.program.end_address - super::PROGRAM_BASE
+                    ))
+                    .color(p.dim),
+                );
+                egui::Grid::new("tml_labels")
+                    .striped(true)
+                    .num_columns(3)
+                    .show(ui, |ui| {
+                        for h in ["label", "line", "address"] {
+                            ui.label(RichText::new(h).strong());
+                        }
+                        ui.end_row();
+                        for ((name, index), &line) in
+                            m.program.labels.iter().zip(&m.program.label_lines)
+                        {
+                            ui.label(RichText::new(name).monospace());
+                            let at = debugger.describe_line(line);
+                            if ui
+                                .link(RichText::new(&at).monospace())
+                                .on_hover_text("Show the line")
+                                .clicked()
+                            {
+                                out.push(Command::ShowLine(line));
+                            }
+                            ui.label(
+                                RichText::new(format!(
+                                    "0x{:04X}",
+                                    m.program.address_of(*index as usize)
+                                ))
+                                .monospace(),
+                            );
+                            ui.end_row();
+                        }
+                    });
+            });
+    }
 }
 
 pub struct ProductPanel;
@@ -238,9 +413,14 @@ impl DialectPanel for DrivePanel {
                 if lines.is_empty() {
                     ui.label(RichText::new("empty").color(p.dim));
                 }
-                for (depth, line) in lines.iter().enumerate().rev() {
+                for (depth, (line, &back)) in lines.iter().zip(&m.stack).enumerate().rev() {
                     ui.label(
-                        RichText::new(format!("{depth}: CALL on line {line}")).monospace(),
+                        RichText::new(format!(
+                            "{depth}: CALL at {}, returns to 0x{:04X}",
+                            debugger.where_line(*line),
+                            m.program.address_of(back as usize)
+                        ))
+                        .monospace(),
                     );
                 }
             });

@@ -163,6 +163,12 @@ pub enum Op {
         call: bool,
         cond: Option<(Operand, Cond)>,
     },
+    /// `GOTO V16;` / `CALL V16, X, C;`: to the program address the variable holds (§5.7).
+    JumpVia {
+        via: Operand,
+        call: bool,
+        cond: Option<(Operand, Cond)>,
+    },
     Ret,
     End,
     ModePp,
@@ -185,6 +191,8 @@ pub struct Stmt {
     pub col: usize,
     /// The statement's text, for explanations.
     pub text: String,
+    /// Its size in program memory, in 16-bit words (spec §5.11).
+    pub words: u8,
 }
 
 /// A user variable.
@@ -369,9 +377,53 @@ pub struct Program {
     pub stmts: Vec<Stmt>,
     pub vars: Vec<Var>,
     pub labels: Vec<(String, u32)>,
+    /// The names of the program's files when it has several (positions then name their file:
+    /// line `l` is in `files[l / FILE_LINES]`); empty for one file.
+    pub files: Vec<String>,
+    /// The line of each label of `labels`, in the same order.
+    pub label_lines: Vec<usize>,
+    /// Each statement's program-memory address (spec §5.11), and the end address after them.
+    pub addresses: Vec<u32>,
+    pub end_address: u32,
     /// Predefined data the text mentions (indices into [`super::PREDEFINED`]).
     pub used: Vec<u8>,
     pub uses_preg: bool,
     /// Inputs the text mentions.
     pub used_inputs: Vec<u8>,
+}
+
+/// Where user variables start in the drive's data memory (spec §2.4).
+pub const VARIABLES_BASE: u32 = 0x03B0;
+
+impl Program {
+    /// Each user variable's data address (spec §2.4): from 0x03B0 in declaration order, an
+    /// int one word, a long or fixed two at an even address.
+    pub fn var_addresses(&self) -> Vec<u32> {
+        let mut next = VARIABLES_BASE;
+        self.vars
+            .iter()
+            .map(|v| {
+                if v.ty.bits() == 32 {
+                    next += next % 2;
+                }
+                let at = next;
+                next += u32::from(v.ty.bits() / 16);
+                at
+            })
+            .collect()
+    }
+
+    /// The program-memory address of statement `index`, or the end address past the last.
+    pub fn address_of(&self, index: usize) -> u32 {
+        self.addresses.get(index).copied().unwrap_or(self.end_address)
+    }
+
+    /// The statement that starts at `address`, or `len` for the end address; `None` where no
+    /// statement starts (a jump there is a `bad_address`).
+    pub fn statement_at(&self, address: u32) -> Option<usize> {
+        if address == self.end_address {
+            return Some(self.stmts.len());
+        }
+        self.addresses.binary_search(&address).ok()
+    }
 }

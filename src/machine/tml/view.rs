@@ -34,7 +34,56 @@ const DATA_ORDER: [u8; 13] = [
 ];
 /// PREG's index in the data space.
 pub const PREG_INDEX: u32 = DATA_ORDER.len() as u32;
-const STATUS_ORDER: [u8; 4] = [d::SRL, d::SRH, d::MER, d::DER];
+/// Table B data after PREG (MCR, a status word, is with the status words), so the indexes of
+/// older sessions' edits stay where they were.
+const DATA_B_ORDER: [u8; 13] = [
+    d::TACC,
+    d::RTIME,
+    d::POSOKLIM,
+    d::TONPOSOK,
+    d::VAR_I1,
+    d::VAR_I2,
+    d::VAR_I3,
+    d::VAR_LF,
+    d::DO_TML_INITIALIZATIONS,
+    d::EXECUTE_MAIN,
+    d::EXECUTE_AUTOTUNING,
+    d::HOMINGTABLE_POINTER,
+    d::FUNCTIONTABLE_POINTER,
+];
+const STATUS_ORDER: [u8; 5] = [d::SRL, d::SRH, d::MER, d::DER, d::MCR];
+
+/// The predefined datum at index `i` of the data space (not PREG).
+fn data_pre(i: usize) -> Option<u8> {
+    if i < DATA_ORDER.len() {
+        Some(DATA_ORDER[i])
+    } else {
+        DATA_B_ORDER.get(i.checked_sub(DATA_ORDER.len() + 1)?).copied()
+    }
+}
+
+const UPGRADE_BITS: &[BitInfo] = &[BitInfo {
+    bit: 11,
+    name: "INPOS_RULE",
+    description: "motion complete waits until |TPOS − APOS| ≤ POSOKLIM for TONPOSOK ticks",
+}];
+const MCR_BITS: &[BitInfo] = &[
+    BitInfo {
+        bit: 0,
+        name: "PP",
+        description: "MODE PP was given (with bits 8, 9, 10, 15: 0x8701)",
+    },
+    BitInfo {
+        bit: 13,
+        name: "CPA",
+        description: "CPOS is absolute",
+    },
+    BitInfo {
+        bit: 14,
+        name: "TUM1",
+        description: "the next UPD starts from the reference",
+    },
+];
 
 const SRL_BITS: &[BitInfo] = &[
     BitInfo {
@@ -79,6 +128,8 @@ const DER_BITS: &[BitInfo] = &[
 pub fn data_loc(pre: u8) -> Loc {
     if let Some(i) = DATA_ORDER.iter().position(|&p| p == pre) {
         Loc::new(DATA, i as u32)
+    } else if let Some(i) = DATA_B_ORDER.iter().position(|&p| p == pre) {
+        Loc::new(DATA, PREG_INDEX + 1 + i as u32)
     } else {
         let i = STATUS_ORDER.iter().position(|&p| p == pre).unwrap_or(0);
         Loc::new(STATUS, i as u32)
@@ -109,6 +160,8 @@ fn pre_info(pre: u8) -> LocInfo {
             d::SRL => SRL_BITS,
             d::MER => MER_BITS,
             d::DER => DER_BITS,
+            d::MCR => MCR_BITS,
+            d::UPGRADE => UPGRADE_BITS,
             _ => &[],
         },
         editable: p.writable,
@@ -119,6 +172,27 @@ impl Tml {
     /// The runner's and the views' name for a value: the declared spelling of a variable.
     pub fn var_name(&self, v: usize) -> &str {
         &self.program.vars[v].name
+    }
+
+    /// The call stack's lines for the runner, and `,"stack_files":[…]` when the program has
+    /// several files (spec §9).
+    fn stack_json(&self) -> (Vec<String>, String) {
+        let lines = self.call_stack_lines();
+        let split = crate::machine::project::Project::split;
+        if self.program.files.is_empty() {
+            return (lines.iter().map(ToString::to_string).collect(), String::new());
+        }
+        let names: Vec<String> = lines
+            .iter()
+            .map(|&l| {
+                let name = self.program.files.get(split(l).0).map_or("", String::as_str);
+                serde_json::to_string(name).unwrap_or_default()
+            })
+            .collect();
+        (
+            lines.iter().map(|&l| split(l).1.to_string()).collect(),
+            format!(",\"stack_files\":[{}]", names.join(",")),
+        )
     }
 
     fn event_json(&self) -> String {
@@ -212,7 +286,7 @@ impl MachineView for Tml {
                 name: "data",
                 title: "TML data",
                 kind: SpaceKind::Registers,
-                len: PREG_INDEX + 1,
+                len: PREG_INDEX + 1 + DATA_B_ORDER.len() as u32,
             },
             SpaceInfo {
                 name: "vars",
@@ -247,7 +321,7 @@ impl MachineView for Tml {
                 bits: &[],
                 editable: true,
             }),
-            DATA => DATA_ORDER.get(i).map(|&p| pre_info(p)),
+            DATA => data_pre(i).map(pre_info),
             VARS => self.program.vars.get(i).map(|v| LocInfo {
                 name: v.name.clone(),
                 alias: None,
@@ -280,13 +354,11 @@ impl MachineView for Tml {
         let i = loc.index as usize;
         match loc.space {
             DATA if loc.index == PREG_INDEX => self.preg,
-            DATA => DATA_ORDER
-                .get(i)
-                .map_or(0, |&p| u64::from(self.raw(Data::Pre(p)))),
+            DATA => data_pre(i).map_or(0, |p| u64::from(self.raw(Data::Pre(p)))),
             VARS => self.vars.get(i).map_or(0, |&v| u64::from(v)),
             STATUS => STATUS_ORDER
                 .get(i)
-                .map_or(0, |&p| u64::from(self.data[p as usize] & 0xFFFF)),
+                .map_or(0, |&p| u64::from(self.raw(Data::Pre(p)) & 0xFFFF)),
             INPUT if i < INPUTS => u64::from(self.input(i)),
             _ => 0,
         }
@@ -296,7 +368,10 @@ impl MachineView for Tml {
         let i = loc.index as usize;
         match loc.space {
             DATA if loc.index == PREG_INDEX => self.preg = value,
-            DATA => self.data[DATA_ORDER[i] as usize] = value as u32,
+            DATA => match data_pre(i) {
+                Some(p) => self.data[p as usize] = value as u32,
+                None => return Err(WriteError::NoSuchLocation),
+            },
             VARS => self.vars[i] = value as u32,
             INPUT => {
                 if value != 0 {
@@ -375,7 +450,7 @@ impl MachineView for Tml {
     fn fault(&self) -> Option<FaultInfo> {
         self.fault.map(|(f, line)| FaultInfo {
             kind: f.kind(),
-            message: f.message().to_string(),
+            message: f.message(),
             line,
         })
     }
@@ -416,9 +491,11 @@ impl MachineView for Tml {
         self.data[d::MER as usize] != 0
     }
     fn report_json(&self) -> String {
+        // Table A always; table B only what the program names (spec §9).
         let mut regs: Vec<String> = PREDEFINED
             .iter()
             .enumerate()
+            .filter(|(i, p)| !p.table_b || self.program.used.contains(&(*i as u8)))
             .map(|(i, p)| format!("\"{}\":{}", p.name, self.report_value(i as u8)))
             .collect();
         regs.push(format!("\"PREG\":{}", self.preg_signed()));
@@ -436,14 +513,10 @@ impl MachineView for Tml {
             format!("\"AXISON\":{}", u8::from(srl & srl::AXIS_ON != 0)),
         ];
         flags.extend((0..INPUTS).map(|n| format!("\"IN#{n}\":{}", u8::from(self.input(n)))));
-        let stack: Vec<String> = self
-            .call_stack_lines()
-            .iter()
-            .map(ToString::to_string)
-            .collect();
+        let (stack, stack_files) = self.stack_json();
         let p = &self.profile;
         format!(
-            "\"registers\":{{{}}},\"flags\":{{{}}},\"stack\":[{}],\"event\":{},\"motion\":{{\"mode\":{},\"relative\":{},\"tum\":{},\"active\":{},\"stopping\":{},\"end\":{}}}",
+            "\"registers\":{{{}}},\"flags\":{{{}}},\"stack\":[{}]{stack_files},\"event\":{},\"motion\":{{\"mode\":{},\"relative\":{},\"tum\":{},\"active\":{},\"stopping\":{},\"end\":{}}}",
             regs.join(","),
             flags.join(","),
             stack.join(","),
@@ -488,6 +561,53 @@ impl MachineView for Tml {
             }
         }
         out
+    }
+    fn plot_band(&self) -> Option<(&'static str, i64, String)> {
+        self.in_position_rule().then(|| {
+            let band = i64::from(self.data[d::POSOKLIM as usize] as u16);
+            (
+                "TPOS",
+                band,
+                format!(
+                    "TPOS ± POSOKLIM ({band}); in position for {} of {} ticks",
+                    self.in_position,
+                    (self.data[d::TONPOSOK as usize] as u16).max(1)
+                ),
+            )
+        })
+    }
+    fn line_addresses(&self) -> Vec<(usize, u32)> {
+        let mut out: Vec<(usize, u32)> = Vec::new();
+        for (stmt, &address) in self.program.stmts.iter().zip(&self.program.addresses) {
+            if out.last().is_none_or(|&(l, _)| l != stmt.line) {
+                out.push((stmt.line, address));
+            }
+        }
+        // A file included twice has its lines twice: the first address of each stands.
+        out.sort_by_key(|&(l, _)| l);
+        out.dedup_by_key(|&mut (l, _)| l);
+        out
+    }
+    fn line_notes(&self) -> Vec<(usize, String)> {
+        // A jump through data: the address it holds now and where that is.
+        self.program
+            .stmts
+            .iter()
+            .filter_map(|s| match s.op {
+                Op::JumpVia { via, .. } => {
+                    let address = self.read_operand(&via) as u16;
+                    let whither = match self.program.statement_at(u32::from(address)) {
+                        Some(i) if i < self.program.stmts.len() => {
+                            format!("'{}'", self.program.stmts[i].text)
+                        }
+                        Some(_) => "the end".to_string(),
+                        None => "no statement: bad_address".to_string(),
+                    };
+                    Some((s.line, format!("→ 0x{address:04X} = {whither}")))
+                }
+                _ => None,
+            })
+            .collect()
     }
     fn plot_markers(&self) -> Vec<(String, i64)> {
         // The end of the last accepted UPD (there was one when a speed was latched).

@@ -1,0 +1,171 @@
+#![cfg(feature = "gui")]
+//! A TML project of several files in the window (spec `tml.md` §10): one tab per file, the top
+//! file first; the tab of the statement about to run comes forward; breakpoints belong to a
+//! file and a line; the Drive data and Labels panels.
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use servoscope::machine::project::Project;
+use servoscope::ui::{Command, Prefs, ServoscopeApp};
+
+const TOP: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/assets/examples/easymotion_axis/motion.tml"
+);
+
+fn harness(app: ServoscopeApp) -> Harness<'static, ServoscopeApp> {
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1400.0, 900.0))
+        .build_ui_state(|ui, app: &mut ServoscopeApp| app.show(ui), app);
+    h.run_steps(2);
+    h
+}
+
+fn apply(h: &mut Harness<'static, ServoscopeApp>, command: Command) {
+    let ctx = h.ctx.clone();
+    h.state_mut().apply(&ctx, command);
+    h.run_steps(3);
+}
+
+fn project_app() -> ServoscopeApp {
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.open_path(TOP.into());
+    assert!(app.notice.is_none(), "{:?}", app.notice);
+    app
+}
+
+#[test]
+fn the_top_file_opens_the_whole_project_one_tab_per_file() {
+    let mut h = harness(project_app());
+    let names = [
+        "motion.tml",
+        "setup_interrupts.tml",
+        "setup_settings.tml",
+        "main.tml",
+        "homingmodes.tml",
+        "functions.tml",
+    ];
+    for name in names {
+        h.get_by_label(&format!("File {name}"));
+    }
+    assert_eq!(h.state().code.file, 0, "the top file is shown first");
+    assert!(!h.state().debugger.has_errors());
+    // The first step runs BEGIN; the next statement is in setup_interrupts.tml: its tab comes
+    // forward.
+    apply(&mut h, Command::StepCommand);
+    assert_eq!(h.state().code.file, 1);
+    // The user looks at another file: stepping inside the same file leaves the view alone.
+    h.get_by_label("File functions.tml").click();
+    h.run_steps(2);
+    assert_eq!(h.state().code.file, 5);
+    apply(&mut h, Command::StepCommand);
+    assert_eq!(
+        h.state().code.file,
+        5,
+        "still in setup_interrupts.tml: no switch"
+    );
+    apply(&mut h, Command::StepCommand);
+    assert_eq!(
+        h.state().code.file,
+        2,
+        "entering setup_settings.tml brings it forward"
+    );
+}
+
+#[test]
+fn a_breakpoint_set_in_an_included_file_stops_there() {
+    let mut h = harness(project_app());
+    h.get_by_label("File main.tml").click();
+    h.run_steps(2);
+    h.get_by_label("Breakpoint line 15").click();
+    h.run_steps(2);
+    let main = h
+        .state()
+        .debugger
+        .project()
+        .index_of("main.tml")
+        .expect("main.tml");
+    let line = Project::line(main, 15);
+    assert_eq!(h.state().debugger.breakpoints(), [line].into());
+    apply(
+        &mut h,
+        Command::SetSpeed(servoscope::debugger::Speed::Unlimited),
+    );
+    apply(&mut h, Command::Run);
+    for _ in 0..200 {
+        h.run_steps(1);
+        if !h.state().debugger.is_running() {
+            break;
+        }
+    }
+    assert_eq!(h.state().debugger.machine().pc_line(), Some(line));
+    // The breakpoint list names the file.
+    let list = servoscope::ui::layout::Pane::Breakpoints;
+    apply(&mut h, Command::ShowPane(list.clone(), true));
+    h.state_mut().layout.focus(&list);
+    h.run_steps(2);
+    h.get_by_label("Line main.tml:15");
+}
+
+#[test]
+fn a_jump_to_a_line_of_another_file_shows_that_file() {
+    let mut h = harness(project_app());
+    let functions = h
+        .state()
+        .debugger
+        .project()
+        .index_of("functions.tml")
+        .expect("functions.tml");
+    apply(&mut h, Command::ShowLine(Project::line(functions, 5)));
+    assert_eq!(h.state().code.file, functions);
+    assert_eq!(
+        h.state().code.cursor_line,
+        Some(Project::line(functions, 5))
+    );
+}
+
+#[test]
+fn editing_an_included_file_assembles_the_project_and_save_writes_the_changed_file() {
+    let dir = std::env::temp_dir().join(format!("servoscope-gui-proj-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("dir");
+    std::fs::write(
+        dir.join("motion.tml"),
+        "int a;\n#include \"part.tml\"\nEND;\n",
+    )
+    .expect("w");
+    std::fs::write(dir.join("part.tml"), "a = 1;\n").expect("w");
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.open_path(dir.join("motion.tml"));
+    let mut h = harness(app);
+    apply(&mut h, Command::EditFile(1, "a = 2;\n".into()));
+    assert!(h.state().debugger.is_file_edited(1));
+    assert!(h.state().program_modified());
+    apply(&mut h, Command::Assemble);
+    assert!(!h.state().debugger.has_errors());
+    apply(&mut h, Command::SaveProgram);
+    assert_eq!(
+        std::fs::read_to_string(dir.join("part.tml")).expect("read"),
+        "a = 2;\n"
+    );
+    assert!(!h.state().program_modified());
+}
+
+#[test]
+fn the_drive_data_and_labels_panels_list_tables_a_and_b_and_the_addresses() {
+    let mut h = harness(project_app());
+    let show = |h: &mut Harness<'static, ServoscopeApp>, title: &str| {
+        let pane = servoscope::ui::layout::Pane::Dialect(title.into());
+        apply(h, Command::ShowPane(pane.clone(), true));
+        h.state_mut().layout.focus(&pane);
+        h.run_steps(2);
+        assert!(h.state().layout.is_shown(&pane), "{title}");
+    };
+    show(&mut h, "Drive data");
+    h.get_by_label("0x036A");
+    h.get_by_label("0x03B2");
+    show(&mut h, "Labels");
+    h.get_by_label("MainStartAddress");
+    h.get_by_label("0x4011");
+    h.get_by_label("setup_settings.tml:20");
+}

@@ -1,0 +1,710 @@
+//! TML programs as EasyMotion Studio writes them (spec `tml.md` §1.1, §2.2, §5.7, §5.11, §6.1,
+//! §7, §9): projects of several files through the assembler, the debugger, sessions and the
+//! runner; the drive's table B data; program memory and label addresses; the in-position rule.
+//!
+//! The example project's golden values (addresses, ticks, registers) were worked out by hand
+//! and by an independent model from the spec's rules, not from servoscope's output.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::servoscope;
+use servoscope::debugger::Debugger;
+use servoscope::machine::project::{Project, SourceFile};
+use servoscope::machine::registry;
+use servoscope::machine::tml::assembler::assemble_project;
+use servoscope::machine::tml::dialect::machine;
+use servoscope::machine::tml::{Tml, d};
+use servoscope::machine::{Machine, MachineView, RunState};
+use servoscope::session::Session;
+
+const EXAMPLE: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/assets/examples/easymotion_axis"
+);
+
+fn tml() -> &'static registry::Dialect {
+    registry::by_name("tml").expect("TML is registered")
+}
+
+fn project(files: &[(&str, &str)]) -> Project {
+    Project {
+        files: files
+            .iter()
+            .map(|(name, text)| SourceFile {
+                name: name.to_string(),
+                text: text.to_string(),
+            })
+            .collect(),
+    }
+}
+
+/// Every diagnostic as `file:line:col: error: message`.
+fn errors_of(p: &Project) -> Vec<String> {
+    match assemble_project(p) {
+        Ok(_) => Vec::new(),
+        Err(e) => e.iter().map(|d| p.diagnostic(p.top_name(), d)).collect(),
+    }
+}
+
+/// Run until the debugger stops on its own (breakpoint, end, fault).
+fn run_to_stop(d: &mut Debugger) {
+    d.set_speed(servoscope::debugger::Speed::Unlimited);
+    d.run();
+    while d.advance(0.016, std::time::Duration::from_millis(200)) {}
+}
+
+fn run(src: &str) -> Tml {
+    let mut m = machine(src).unwrap_or_else(|e| panic!("assembles: {e:?}\n{src}"));
+    m.run_until(1_000_000, |_| false);
+    m
+}
+
+fn var(m: &Tml, name: &str) -> i64 {
+    let loc = m.find(name).unwrap_or_else(|| panic!("{name}"));
+    servoscope::machine::value_of(m, loc)
+}
+
+/// A fresh directory for files on disk.
+fn scratch_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("servoscope-proj-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a scratch directory");
+    dir
+}
+
+fn write(dir: &Path, name: &str, text: &str) {
+    let path = dir.join(name);
+    if let Some(parent) = path.parent() {
+        std::fs::create_dir_all(parent).expect("folders");
+    }
+    std::fs::write(path, text).expect("write");
+}
+
+// ---- §1.1 files and #include ---------------------------------------------------------------
+
+#[test]
+fn an_included_file_is_assembled_at_its_include_line_with_its_own_lines() {
+    let p = project(&[
+        (
+            "motion.tml",
+            "int a;\nBEGIN;\n#include \"setup.tml\"\na += 1;\nEND;\n",
+        ),
+        ("setup.tml", "// setup\na = 5;\n"),
+    ]);
+    let program = assemble_project(&p).expect("assembles");
+    let lines: Vec<usize> = program.stmts.iter().map(|s| s.line).collect();
+    assert_eq!(
+        lines,
+        vec![2, Project::line(1, 2), 4, 5],
+        "BEGIN, then setup.tml line 2, then the top file again"
+    );
+    assert_eq!(p.describe(Project::line(1, 2)), "setup.tml:2");
+    let mut m = Tml::new(std::sync::Arc::new(program));
+    m.run_until(100, |_| false);
+    assert_eq!(var(&m, "a"), 6);
+}
+
+#[test]
+fn include_paths_backslashes_dots_and_letter_case() {
+    // Relative to the including file; `\` as `/`; `..`; a name differing only in case.
+    let p = project(&[
+        ("motion.tml", "#include \"lib\\\\a.tml\"\n"),
+        ("lib/a.tml", "#include \"../COMMON/B.TML\" // from lib\n"),
+        ("common/b.tml", "int b; b = 7;\n"),
+    ]);
+    let program = assemble_project(&p).expect("assembles");
+    assert_eq!(program.stmts.len(), 1);
+    assert_eq!(program.stmts[0].line, Project::line(2, 1));
+    // `#` with blanks around it and any case.
+    let p = project(&[("m.tml", "  #  INCLUDE \"x.tml\"\n"), ("x.tml", "NOP;\n")]);
+    assert!(assemble_project(&p).is_ok());
+}
+
+#[test]
+fn include_errors_are_at_the_include_line_and_the_rest_is_still_assembled() {
+    let p = project(&[(
+        "motion.tml",
+        "#include \"missing.tml\"\n#define X 1\n#include missing\n#include \"\"\nBOGUS;\n",
+    )]);
+    assert_eq!(
+        errors_of(&p),
+        vec![
+            "motion.tml:1:10: error: cannot open included file 'missing.tml'",
+            "motion.tml:2:1: error: #define is not supported by servoscope yet (only #include)",
+            "motion.tml:3:1: error: malformed #include: write #include \"path\"",
+            "motion.tml:4:2: error: empty #include path",
+            "motion.tml:5:1: error: unknown instruction 'BOGUS'",
+        ]
+    );
+}
+
+#[test]
+fn a_cycle_and_too_deep_a_chain_are_errors_not_endless_assembly() {
+    let p = project(&[
+        ("a.tml", "#include \"b.tml\"\n"),
+        ("b.tml", "NOP;\n#include \"a.tml\"\n"),
+    ]);
+    assert_eq!(
+        errors_of(&p),
+        vec!["b.tml:2:10: error: 'a.tml' includes itself (a.tml -> b.tml -> a.tml)"],
+        "at the include line that closes the cycle"
+    );
+    // 17 nested levels below the top file: the 17th include is refused.
+    let mut files = vec![("f0.tml".to_string(), "#include \"f1.tml\"\n".to_string())];
+    for k in 1..=17 {
+        files.push((
+            format!("f{k}.tml"),
+            format!("#include \"f{}.tml\"\n", k + 1),
+        ));
+    }
+    files.push(("f18.tml".to_string(), "NOP;\n".to_string()));
+    let p = Project {
+        files: files
+            .into_iter()
+            .map(|(name, text)| SourceFile { name, text })
+            .collect(),
+    };
+    let errors = errors_of(&p);
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(
+        errors[0].starts_with("f16.tml:1:10: error: more than 16 nested #include levels"),
+        "{errors:?}"
+    );
+}
+
+#[test]
+fn a_file_included_twice_is_assembled_twice_and_its_errors_reported_once() {
+    let p = project(&[
+        ("m.tml", "#include \"x.tml\"\n#include \"x.tml\"\n"),
+        ("x.tml", "int n;\nhere: NOP;\n"),
+    ]);
+    assert_eq!(
+        errors_of(&p),
+        vec![
+            "x.tml:1:5: error: duplicate variable 'n'",
+            "x.tml:2:1: error: duplicate label 'here' (first at x.tml:2)",
+        ]
+    );
+    let p = project(&[
+        ("m.tml", "int n;\n#include \"x.tml\"\n#include \"x.tml\"\n"),
+        ("x.tml", "n += 1;\n"),
+    ]);
+    let program = assemble_project(&p).expect("assembles");
+    assert_eq!(program.stmts.len(), 2);
+}
+
+#[test]
+fn errors_are_sorted_by_file_in_order_of_first_inclusion() {
+    let p = project(&[
+        ("m.tml", "#include \"b.tml\"\n#include \"a.tml\"\nBAD1;\n"),
+        ("b.tml", "BAD2;\n"),
+        ("a.tml", "BAD3;\n"),
+    ]);
+    let errors = errors_of(&p);
+    let files: Vec<&str> = errors
+        .iter()
+        .map(|e| e.split(':').next().unwrap())
+        .collect();
+    assert_eq!(files, ["m.tml", "b.tml", "a.tml"], "{errors:?}");
+}
+
+#[test]
+fn declared_before_use_follows_inclusion_order_and_labels_may_come_later() {
+    let p = project(&[
+        ("m.tml", "#include \"use.tml\"\n#include \"decl.tml\"\n"),
+        ("use.tml", "x = 1;\nGOTO later;\n"),
+        ("decl.tml", "int x;\nlater: END;\n"),
+    ]);
+    assert_eq!(
+        errors_of(&p),
+        vec!["use.tml:1:1: error: undeclared variable 'x'"]
+    );
+}
+
+#[test]
+fn the_loader_reads_included_files_from_disk_with_the_case_fallback() {
+    let dir = scratch_dir("load");
+    write(
+        &dir,
+        "motion.tml",
+        "#include \"Setup.TML\"\n#include \"lib\\\\x.tml\"\nEND;\n",
+    );
+    write(&dir, "setup.tml", "int s; s = 3;\n");
+    write(&dir, "lib/x.tml", "s += 1;\n");
+    let p = tml().load(&dir.join("motion.tml")).expect("loads");
+    let names: Vec<&str> = p.files.iter().map(|f| f.name.as_str()).collect();
+    assert_eq!(names, ["motion.tml", "setup.tml", "lib/x.tml"]);
+    let program = assemble_project(&p).expect("assembles");
+    assert_eq!(program.stmts.len(), 3);
+    // An included file that is not UTF-8 reads with U+FFFD and says where.
+    write(&dir, "setup.tml", "int s; s = 3; \u{0}\n");
+    std::fs::write(dir.join("setup.tml"), b"int s;\ns = 3;\n\xff\n").expect("write");
+    let p = tml().load(&dir.join("motion.tml")).expect("loads");
+    assert_eq!(
+        errors_of(&p),
+        vec!["setup.tml:3:1: error: unexpected character '\\u{fffd}'"]
+    );
+}
+
+#[test]
+fn the_runner_names_each_file_as_reached_from_the_command_line() {
+    let dir = scratch_dir("diag");
+    write(&dir, "motion.tml", "#include \"main.tml\"\n");
+    write(&dir, "main.tml", "int a;\na = 1;\n\n\n\n\na = CPOSS;\n");
+    let top = dir.join("motion.tml");
+    let out = servoscope(&["run", top.to_str().unwrap(), "--json"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(out.stdout.is_empty());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let want = format!(
+        "{}:7:5: error: undeclared variable 'CPOSS' (did you mean 'CPOS'?)",
+        dir.join("main.tml").display()
+    );
+    assert!(stderr.contains(&want), "{stderr}");
+    // main.tml alone: the sibling's labels would be undefined, but this one stands alone.
+    let alone = servoscope(&["run", dir.join("main.tml").to_str().unwrap()]);
+    assert_eq!(alone.status.code(), Some(2));
+}
+
+// ---- §2.2 table B ----------------------------------------------------------------------------
+
+#[test]
+fn table_b_behaviours_tacc_rtime_and_mcr() {
+    // TACC: the change of TSPD in the last tick; accelerating at 0.5 it is 0.5 (raw 32768).
+    let m = run(
+        "long t; fixed a; CACC = 0.5; CSPD = 10.; CPOS = 1000; MODE PP; UPD; !RT 3; WAIT!; a = TACC; t = RTIME; END;",
+    );
+    assert_eq!(var(&m, "a"), 32768);
+    assert_eq!(var(&m, "t"), 3, "RTIME counts from TIME0 of the last !RT");
+    // Before any !RT, RTIME is ATIME (TIME0 = 0).
+    let m = run("long t; !MC; WAIT!; WAIT!; t = RTIME; END;");
+    assert_eq!(var(&m, "t"), 1);
+    // MCR: 0 at first; 0x8701 after MODE PP, +0x2000 with CPA, +0x4000 with TUM1.
+    let m = run(
+        "int m0; int m1; int m2; m0 = MCR; MODE PP; CPA; TUM1; m1 = MCR; CPR; TUM0; m2 = MCR; END;",
+    );
+    assert_eq!(var(&m, "m0"), 0);
+    assert_eq!(var(&m, "m1") as u16, 0x8701 + 0x2000 + 0x4000);
+    assert_eq!(var(&m, "m2") as u16, 0x8701);
+    // Storage only: written and read back, nothing else changes.
+    let m = run("DoTMLInitializations = 1; VAR_LF = 70000; ExecuteMain = 5; VAR_I3 = -2; END;");
+    assert_eq!(var(&m, "DoTMLInitializations"), 1);
+    assert_eq!(var(&m, "VAR_LF"), 70000);
+    assert_eq!(var(&m, "ExecuteMain"), 5);
+    assert_eq!(var(&m, "VAR_I3"), -2);
+}
+
+#[test]
+fn table_b_read_only_data_unknown_names_and_unmodelled_ones() {
+    let errs = |src: &str| match machine(src) {
+        Ok(_) => Vec::new(),
+        Err(e) => e.iter().map(ToString::to_string).collect::<Vec<_>>(),
+    };
+    assert_eq!(errs("TACC = 1;"), ["1:1: error: TACC is read-only"]);
+    assert_eq!(errs("MCR = 1;"), ["1:1: error: MCR is read-only"]);
+    assert_eq!(errs("RTIME = 1;"), ["1:1: error: RTIME is read-only"]);
+    assert_eq!(
+        errs("POSOKLM = 1;"),
+        ["1:1: error: undeclared variable 'POSOKLM' (did you mean 'POSOKLIM'?)"]
+    );
+    assert_eq!(
+        errs("int posoklim;"),
+        ["1:5: error: 'posoklim' is a TML name and cannot be a variable"]
+    );
+    assert_eq!(
+        errs("CDEC = 1.;"),
+        ["1:1: error: 'CDEC' (fixed, 0x0858) is a TML datum that servoscope does not model yet"]
+    );
+}
+
+#[test]
+fn table_b_data_are_in_the_json_only_when_the_program_names_them() {
+    let plain = common::scratch_file("tb-plain.tml", "int a; a = 1; END;\n");
+    let out = servoscope(&["run", plain.to_str().unwrap(), "--json"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        !text.contains("POSOKLIM") && !text.contains("TACC"),
+        "{text}"
+    );
+    assert!(
+        !text.contains("stack_files"),
+        "one file reports as before: {text}"
+    );
+    let named = common::scratch_file("tb-named.tml", "int a; a = tonposok; posoklim = 3; END;\n");
+    let out = servoscope(&["run", named.to_str().unwrap(), "--json"]);
+    // In table order, after table A and before PREG (read from the text: a parsed map sorts).
+    let text = String::from_utf8_lossy(&out.stdout);
+    let at = |k: &str| {
+        text.find(&format!("\"{k}\":"))
+            .unwrap_or_else(|| panic!("{k}: {text}"))
+    };
+    assert!(
+        at("PRODH") < at("POSOKLIM")
+            && at("POSOKLIM") < at("TONPOSOK")
+            && at("TONPOSOK") < at("PREG")
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let regs = &v["registers"];
+    assert_eq!(regs["POSOKLIM"], 3);
+    assert_eq!(regs["TONPOSOK"], 0);
+}
+
+// ---- §6.1 motion complete and the in-position rule -------------------------------------------
+
+/// The tick in which the statement after `WAIT!` starts (the WAIT! completes then).
+fn wait_completes(src: &str) -> u64 {
+    let m = run(&format!("long t; {src} t = ATIME; END;"));
+    var(&m, "t") as u64
+}
+
+#[test]
+fn the_spec_example_of_the_in_position_rule() {
+    assert_eq!(
+        wait_completes("CACC = 1; CSPD = 1; CPOS = 3; MODE PP; UPD; !MC; WAIT!;"),
+        4,
+        "bit 11 clear: motion complete follows the reference, which ends in tick 3"
+    );
+    assert_eq!(
+        wait_completes(
+            "SRB UPGRADE, 0xFFFF, 0x0800; POSOKLIM = 0; TONPOSOK = 50; CACC = 1; CSPD = 1; CPOS = 3; MODE PP; UPD; !MC; WAIT!;"
+        ),
+        53,
+        "n reaches 50 in tick 52"
+    );
+    // TONPOSOK 0 counts as 1: n = 1 at the end of tick 3, where the profile ends (APOS is
+    // on TPOS); a band that APOS never enters keeps motion incomplete.
+    assert_eq!(
+        wait_completes(
+            "SRB UPGRADE, 0xFFFF, 0x0800; TONPOSOK = 0; CACC = 1; CSPD = 1; CPOS = 3; MODE PP; UPD; !MC; WAIT!;"
+        ),
+        4
+    );
+    let m = run("SRB UPGRADE, 0xFFFF, 0x0800; AXISOFF; SAP 100; AXISON; !MC; WAIT! 30; END;");
+    assert_eq!(
+        m.data[d::SRL as usize] & (1 << 10),
+        0,
+        "APOS 100 ≠ TPOS 0: not in position"
+    );
+    assert_eq!(m.in_position, 0);
+}
+
+// ---- §5.11 program memory and label addresses ------------------------------------------------
+
+#[test]
+fn the_spec_example_puts_the_labels_where_the_vendors_linker_map_has_them() {
+    let src = "BEGIN;
+ExecuteMain = MainStartAddress;
+ExecuteAutotuning = ContinueWithEndinit;
+GOTO ContinueWithEndinit, DoTMLInitializations, EQ;
+RET;
+ContinueWithEndinit: SRB UPGRADE, 0xFFFF, 0x8000;
+ENDINIT;
+wait_VDC: GOTO wait_VDC, FLAGUV, NEQ;
+AXISON;
+MainStartAddress:
+";
+    let m = machine(src).expect("assembles");
+    let address = |name: &str| {
+        let (_, index) = m
+            .program
+            .labels
+            .iter()
+            .find(|(n, _)| n == name)
+            .expect(name);
+        m.program.address_of(*index as usize)
+    };
+    assert_eq!(address("ContinueWithEndinit"), 0x4009);
+    assert_eq!(address("wait_VDC"), 0x400D);
+    assert_eq!(
+        address("MainStartAddress"),
+        0x4011,
+        "a last label is the end address"
+    );
+    assert_eq!(m.program.end_address, 0x4011);
+    let m = run(src);
+    assert_eq!(var(&m, "ExecuteMain"), 0x4011);
+    assert_eq!(var(&m, "ExecuteAutotuning"), 0x4009);
+}
+
+#[test]
+fn every_row_of_the_word_table() {
+    let rows: &[(&str, u32)] = &[
+        (
+            "BEGIN; END; ENDINIT; NOP; RET; UPD; STOP; AXISON; AXISOFF; WAIT!; !MC; PROD << 2; SAP l;",
+            13,
+        ),
+        (
+            "i = 5; i = here; i = j; i = -j; i += 3; i -= 3; l += m; i <<= 2; l >>= 1; GOTO here; CALL here; !IN#3 1;",
+            24,
+        ),
+        (
+            "l = 70000; f = 1.5; l += 5; f -= 0.5; i = j << 2; l = m >> 1; i * j; l /= i; SRB i, 1, 2; CPR; CPA; TUM0; TUM1; MODE PP; GOTO here, i, EQ; CALL here, l, GT; SAP 5; WAIT! 10; !RT l;",
+            57,
+        ),
+        ("SRBL i, 1, 2; !RT 100;", 8),
+    ];
+    for (statements, words) in rows {
+        let src = format!("int i; int j; long l; long m; fixed f;\nhere: {statements}\n");
+        let m = machine(&src).unwrap_or_else(|e| panic!("{e:?}"));
+        assert_eq!(m.program.end_address - 0x4000, *words, "{statements}");
+    }
+}
+
+#[test]
+fn jumps_to_numbers_and_through_variables() {
+    // 0x4000 GOTO (2 words), 0x4002 i = 9 (2 words), 0x4004 END: a jump to 0x4004 skips the
+    // assignment.
+    let m = run("int i; GOTO 0x4004; i = 9; END;");
+    assert_eq!(var(&m, "i"), 0);
+    assert_eq!(
+        machine("GOTO 0x4001; NOP; NOP;")
+            .err()
+            .map(|e| e[0].to_string()),
+        Some("1:6: error: no statement starts at 0x4001".to_string())
+    );
+    assert_eq!(
+        machine("GOTO 5L;").err().map(|e| e[0].message.clone()),
+        Some("misplaced suffix 'L': this number takes no suffix".to_string())
+    );
+    // Through a variable: the address it holds, read unsigned.
+    let m = run("int p; int i; p = there; GOTO p; i = 1; there: i += 10; END;");
+    assert_eq!(var(&m, "i"), 10);
+    // The end address ends the program after the jump.
+    let m = run("int p; int i; p = last; GOTO p; i = 1;\nlast:");
+    assert_eq!(m.run_state(), RunState::Ended);
+    assert_eq!(var(&m, "i"), 0);
+    // A label's address needs 16-bit data, and a label is no other operand.
+    let errs = machine("long l; l = here; here: NOP;")
+        .err()
+        .expect("errors");
+    assert!(
+        errs[0].message.contains("a label's address is 16-bit"),
+        "{errs:?}"
+    );
+    let errs = machine("int i; i += here; here: NOP;")
+        .err()
+        .expect("errors");
+    assert!(errs[0].message.contains("'here' is a label"), "{errs:?}");
+    let errs = machine("long l; GOTO l;").err().expect("errors");
+    assert!(errs[0].message.contains("16-bit datum"), "{errs:?}");
+}
+
+#[test]
+fn a_jump_through_a_variable_to_no_statement_faults_with_bad_address() {
+    let m = run("int p; int i; p = 0x4001; i = 4; CALL p; i = 5;");
+    assert_eq!(m.run_state(), RunState::Faulted);
+    let fault = m.fault().expect("a fault");
+    assert_eq!(fault.kind, "bad_address");
+    assert_eq!(fault.line, 1);
+    assert!(fault.message.contains("0x4001"), "{}", fault.message);
+    assert!(m.stack.is_empty(), "CALL pushed nothing");
+    assert_eq!(var(&m, "i"), 4, "nothing after the fault ran");
+    assert_eq!(m.data[d::MER as usize], 0, "no error bits: decided");
+    // Not taken: no fault.
+    let m = run("int p; int i; p = 1; CALL p, i, NEQ; END;");
+    assert_eq!(m.run_state(), RunState::Ended);
+    // The address is checked before the stack: a full stack still faults bad_address.
+    let calls = "CALL f;\n".repeat(11);
+    let m = run(&format!("int p; p = 3;\n{calls}END;\nf: CALL p;\n"));
+    assert_eq!(m.fault().map(|f| f.kind), Some("bad_address"));
+}
+
+// ---- the example project through the runner, the debugger, sessions and the window -----------
+
+fn example_top() -> PathBuf {
+    Path::new(EXAMPLE).join("motion.tml")
+}
+
+#[test]
+fn the_example_project_runs_headless_as_the_spec_works_out() {
+    let top = example_top();
+    let out = servoscope(&["run", top.to_str().unwrap(), "--json"]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert_eq!(v["ticks"], 7860);
+    assert_eq!(v["steps"], 44);
+    let r = &v["registers"];
+    assert_eq!(r["APOS"], 115343);
+    assert_eq!(r["ExecuteMain"], 0x4011);
+    assert_eq!(r["ExecuteAutotuning"], 0x4009);
+    assert_eq!(r["HOMINGTABLE_POINTER"], 0x402F);
+    assert_eq!(r["HomingStopPos"], -20000);
+    assert_eq!(r["POSOKLIM"], 2);
+    assert_eq!(v["stack_files"], serde_json::json!([]));
+    let found = servoscope(&[
+        "run",
+        top.to_str().unwrap(),
+        "--json",
+        "--input",
+        "IN#0=600",
+    ]);
+    let v: serde_json::Value = serde_json::from_slice(&found.stdout).expect("json");
+    assert_eq!(v["ticks"], 6459);
+    assert_eq!(v["registers"]["HomingStopPos"], -5990);
+    // Stopped in the homing subroutine: its CALL is in main.tml.
+    let early = servoscope(&["run", top.to_str().unwrap(), "--json", "--max-ticks", "2"]);
+    let v: serde_json::Value = serde_json::from_slice(&early.stdout).expect("json");
+    assert_eq!(v["status"], "limit");
+    assert_eq!(v["stack"], serde_json::json!([12]));
+    assert_eq!(v["stack_files"], serde_json::json!(["main.tml"]));
+}
+
+#[test]
+fn faults_breaks_and_traces_name_their_file() {
+    let dir = scratch_dir("fault");
+    write(
+        &dir,
+        "motion.tml",
+        "int p;\n#include \"sub.tml\"\nCALL f;\nEND;\n",
+    );
+    write(
+        &dir,
+        "sub.tml",
+        "GOTO skip;\nf: p = 0x4001;\nCALL p;\nskip:\n",
+    );
+    let top = dir.join("motion.tml");
+    let out = servoscope(&["run", top.to_str().unwrap(), "--json"]);
+    assert_eq!(out.status.code(), Some(1));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert_eq!(v["fault"]["kind"], "bad_address");
+    assert_eq!(v["fault"]["line"], 3);
+    assert_eq!(v["fault"]["file"], "sub.tml");
+    assert_eq!(v["stack"], serde_json::json!([3]));
+    assert_eq!(v["stack_files"], serde_json::json!(["motion.tml"]));
+    let trace = dir.join("trace.jsonl");
+    let out = servoscope(&[
+        "run",
+        top.to_str().unwrap(),
+        "--json",
+        "--trace",
+        trace.to_str().unwrap(),
+        "--break",
+        "p == 0x4001",
+    ]);
+    assert_eq!(out.status.code(), Some(4));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert_eq!(v["break"]["line"], 3);
+    assert_eq!(v["break"]["file"], "sub.tml");
+    let lines: Vec<serde_json::Value> = std::fs::read_to_string(&trace)
+        .expect("trace")
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("json line"))
+        .collect();
+    let files: Vec<(&str, u64)> = lines
+        .iter()
+        .map(|l| {
+            (
+                l["file"].as_str().unwrap_or(""),
+                l["line"].as_u64().unwrap_or(0),
+            )
+        })
+        .collect();
+    assert_eq!(files, [("sub.tml", 1), ("motion.tml", 3), ("sub.tml", 2)]);
+}
+
+#[test]
+fn stepping_and_breakpoints_go_into_the_included_files() {
+    let project = tml().load(&example_top()).expect("loads");
+    let main = project.index_of("main.tml").expect("main.tml");
+    let mut d = Debugger::with_project(tml(), project);
+    assert!(!d.has_errors(), "{:?}", d.diagnostics());
+    // motion.tml:4 BEGIN, then setup_interrupts.tml:4.
+    assert_eq!(d.machine().pc_line(), Some(4));
+    d.step_command();
+    while d.advance(0.016, std::time::Duration::from_millis(200)) {}
+    assert_eq!(
+        d.describe_line(d.machine().pc_line().unwrap()),
+        "setup_interrupts.tml:4"
+    );
+    // A breakpoint on main.tml:15 (CACC = 0.5;) stops the run there, after the homing.
+    let line = Project::line(main, 15);
+    assert!(d.toggle_breakpoint(line));
+    run_to_stop(&mut d);
+    assert_eq!(d.machine().pc_line(), Some(line));
+    assert_eq!(
+        d.machine().ticks(),
+        2031,
+        "the homing's WAIT! completes in tick 2031"
+    );
+    // Edits in an included file move its own breakpoints only.
+    let text = d.project().files[main].text.clone();
+    *d.file_text_mut(main) = format!("// a new first line\n{text}");
+    assert!(d.assemble());
+    assert_eq!(
+        d.breakpoint_list()[0].line_number(),
+        Some(Project::line(main, 16))
+    );
+}
+
+#[test]
+fn a_session_of_a_project_keeps_every_file_and_breakpoints_by_file() {
+    let project = tml().load(&example_top()).expect("loads");
+    let main = project.index_of("main.tml").expect("main.tml");
+    let mut d = Debugger::with_project(tml(), project.clone());
+    d.toggle_breakpoint(Project::line(main, 15));
+    d.toggle_breakpoint(4);
+    run_to_stop(&mut d);
+    let at = d.pos();
+    let session = Session::capture(&d, Some(example_top()), Default::default());
+    let text = session.to_ron().expect("encodes");
+    assert!(text.contains("format: 3"), "several files: format 3");
+    assert!(
+        text.contains("(\"main.tml\", 15)"),
+        "breakpoints by file and line: {text}"
+    );
+    let back = Session::from_ron(&text, "p.ron").expect("reads");
+    assert_eq!(back.project(), project, "every file's text and name");
+    let restored = back.restore("p.ron").expect("restores");
+    assert_eq!(restored.pos(), at);
+    assert_eq!(restored.machine().pc_line(), Some(Project::line(main, 15)));
+    let mut lines: Vec<usize> = restored
+        .breakpoint_list()
+        .iter()
+        .filter_map(|b| b.line_number())
+        .collect();
+    lines.sort_unstable();
+    assert_eq!(lines, [4, Project::line(main, 15)]);
+    assert!(
+        back.changed_on_disk().is_empty(),
+        "the files on disk are the same"
+    );
+    // A file changed on disk: said, and the session's copy is used.
+    let dir = scratch_dir("changed");
+    for f in &project.files {
+        write(&dir, &f.name, &f.text);
+    }
+    write(&dir, "main.tml", "// changed\n");
+    let mut moved = back.clone();
+    moved.program_path = Some(dir.join("motion.tml"));
+    assert_eq!(moved.changed_on_disk(), ["main.tml"]);
+    assert_eq!(moved.restore("p.ron").expect("restores").pos(), at);
+    // One file: still format 2, which older builds read.
+    let single = Debugger::with_dialect(tml(), "a.tml", "int a; a = 1; END;");
+    let text = Session::capture(&single, None, Default::default())
+        .to_ron()
+        .expect("encodes");
+    assert!(
+        text.contains("format: 2") && !text.contains("files"),
+        "{text}"
+    );
+}
+
+#[test]
+fn an_older_tml_session_still_opens() {
+    let text = "(format: 2, dialect: \"tml\", program_name: \"a.tml\", program: \"int a;\\na += 1;\\nEND;\\n\", breakpoints: [2], at: (tick: 0, step: 1))";
+    let s = Session::from_ron(text, "old.ron").expect("reads");
+    let d = s.restore("old.ron").expect("restores");
+    assert_eq!(
+        d.machine().pc_line(),
+        Some(3),
+        "one statement run: END is next"
+    );
+    assert_eq!(d.breakpoints(), [2].into());
+}
