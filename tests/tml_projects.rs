@@ -476,18 +476,14 @@ fn jumps_to_numbers_and_through_variables() {
     assert_eq!(m.run_state(), RunState::Ended);
     assert_eq!(var(&m, "i"), 0);
     // A label's address needs 16-bit data, and a label is no other operand.
-    let errs = machine("long l; l = here; here: NOP;")
-        .err()
-        .expect("errors");
+    let errs = machine("long l; l = here; here: NOP;").expect_err("errors");
     assert!(
         errs[0].message.contains("a label's address is 16-bit"),
         "{errs:?}"
     );
-    let errs = machine("int i; i += here; here: NOP;")
-        .err()
-        .expect("errors");
+    let errs = machine("int i; i += here; here: NOP;").expect_err("errors");
     assert!(errs[0].message.contains("'here' is a label"), "{errs:?}");
-    let errs = machine("long l; GOTO l;").err().expect("errors");
+    let errs = machine("long l; GOTO l;").expect_err("errors");
     assert!(errs[0].message.contains("16-bit datum"), "{errs:?}");
 }
 
