@@ -169,3 +169,24 @@ fn the_drive_data_and_labels_panels_list_tables_a_and_b_and_the_addresses() {
     h.get_by_label("0x4011");
     h.get_by_label("setup_settings.tml:20");
 }
+
+#[test]
+fn ctrl_click_on_an_include_line_opens_the_file_it_names() {
+    let mut h = harness(project_app());
+    // The middle of motion.tml is its `#include "setup_settings.tml"` / `"main.tml"` lines.
+    h.get_by_label("motion.tml")
+        .click_modifiers(egui::Modifiers::COMMAND);
+    h.run_steps(3);
+    let shown = h.state().code.file;
+    let name = h.state().debugger.project().files[shown].name.clone();
+    assert!(
+        name == "setup_settings.tml" || name == "main.tml",
+        "opened {name}"
+    );
+    // A plain click only moves the caret.
+    h.get_by_label("File motion.tml").click();
+    h.run_steps(2);
+    h.get_by_label("motion.tml").click();
+    h.run_steps(2);
+    assert_eq!(h.state().code.file, 0);
+}

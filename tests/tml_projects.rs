@@ -381,13 +381,24 @@ fn the_spec_example_of_the_in_position_rule() {
         ),
         4
     );
-    let m = run("SRB UPGRADE, 0xFFFF, 0x0800; AXISOFF; SAP 100; AXISON; !MC; WAIT! 30; END;");
+    // A move whose APOS still lags when the reference stops (worked by hand from §6): speeds
+    // 4, 4, 0 put TPOS at 4, 8, 8 and APOS at 2, 5, 7, 8 in ticks 0..3.
+    let mv = "CACC = 4; CSPD = 4; CPOS = 8; MODE PP; UPD; !MC; WAIT!;";
+    assert_eq!(wait_completes(mv), 3, "the reference ends in tick 2");
     assert_eq!(
-        m.data[d::SRL as usize] & (1 << 10),
-        0,
-        "APOS 100 ≠ TPOS 0: not in position"
+        wait_completes(&format!(
+            "SRB UPGRADE, 0xFFFF, 0x0800; POSOKLIM = 0; TONPOSOK = 1; {mv}"
+        )),
+        4,
+        "APOS reaches 8 in tick 3"
     );
-    assert_eq!(m.in_position, 0);
+    assert_eq!(
+        wait_completes(&format!(
+            "SRB UPGRADE, 0xFFFF, 0x0800; POSOKLIM = 1; TONPOSOK = 1; {mv}"
+        )),
+        3,
+        "|8 − 7| ≤ 1 in tick 2"
+    );
 }
 
 // ---- §5.11 program memory and label addresses ------------------------------------------------
@@ -469,19 +480,19 @@ fn jumps_to_numbers_and_through_variables() {
         Some("misplaced suffix 'L': this number takes no suffix".to_string())
     );
     // Through a variable: the address it holds, read unsigned.
-    let m = run("int p; int i; p = there; GOTO p; i = 1; there: i += 10; END;");
+    let m = run("int p; int i; p = there; GOTO p; i = 1;\nthere: i += 10; END;");
     assert_eq!(var(&m, "i"), 10);
     // The end address ends the program after the jump.
     let m = run("int p; int i; p = last; GOTO p; i = 1;\nlast:");
     assert_eq!(m.run_state(), RunState::Ended);
     assert_eq!(var(&m, "i"), 0);
     // A label's address needs 16-bit data, and a label is no other operand.
-    let errs = machine("long l; l = here; here: NOP;").expect_err("errors");
+    let errs = machine("long l; l = here;\nhere: NOP;").expect_err("errors");
     assert!(
         errs[0].message.contains("a label's address is 16-bit"),
         "{errs:?}"
     );
-    let errs = machine("int i; i += here; here: NOP;").expect_err("errors");
+    let errs = machine("int i; i += here;\nhere: NOP;").expect_err("errors");
     assert!(errs[0].message.contains("'here' is a label"), "{errs:?}");
     let errs = machine("long l; GOTO l;").expect_err("errors");
     assert!(errs[0].message.contains("16-bit datum"), "{errs:?}");

@@ -116,12 +116,18 @@ pub enum Event {
 impl Event {
     /// The event in words; `tick` is the dialect's word for a tick ("tick" or "scan").
     pub fn describe(&self, tick: &str) -> String {
+        self.describe_with(tick, &|l| format!("line {l}"))
+    }
+
+    /// [`Event::describe`] with lines in the words `at_line` gives them ("line 12", or
+    /// "main.tml:12" in a program of several files).
+    pub fn describe_with(&self, tick: &str, at_line: &dyn Fn(usize) -> String) -> String {
         match self {
-            Event::Breakpoint(l) => format!("Breakpoint hit at line {l}"),
-            Event::ErrorLamp(l) => format!("Execution error: stopped before line {l}"),
-            Event::ReachedLine(l) => format!("Reached line {l}"),
+            Event::Breakpoint(l) => format!("Breakpoint hit at {}", at_line(*l)),
+            Event::ErrorLamp(l) => format!("Execution error: stopped before {}", at_line(*l)),
+            Event::ReachedLine(l) => format!("Reached {}", at_line(*l)),
             Event::ReachedTick(t) => format!("At {tick} {t}"),
-            Event::Paused(Some(l)) => format!("Paused at line {l}"),
+            Event::Paused(Some(l)) => format!("Paused at {}", at_line(*l)),
             Event::Paused(None) => "Paused".to_string(),
             Event::Stepped => "Stepped".to_string(),
             Event::SteppedBack => "Stepped back".to_string(),
@@ -139,13 +145,16 @@ impl Event {
                 line,
                 old,
                 new,
-            } => format!("{location} written at line {line}: {old} -> {new}"),
+            } => format!("{location} written at {}: {old} -> {new}", at_line(*line)),
             Event::WrittenBy {
                 location,
                 at,
                 line: Some(l),
                 explanation,
-            } => format!("{location} was written at {tick} {at}, line {l}: {explanation}"),
+            } => format!(
+                "{location} was written at {tick} {at}, {}: {explanation}",
+                at_line(*l)
+            ),
             Event::WrittenBy {
                 location,
                 at,

@@ -139,6 +139,10 @@ pub struct Dialect {
     pub vocabulary: Vocabulary,
     /// Built-in example programs: (file name, text).
     pub examples: &'static [(&'static str, &'static str)],
+    /// Built-in example programs of several files: each a title (its folder) and a list of
+    /// (file name, text), the top file first.
+    #[allow(clippy::type_complexity)]
+    pub projects: &'static [(&'static str, &'static [(&'static str, &'static str)])],
     /// Lesson sessions shipped in `sessions/`: (file name, text).
     pub lessons: &'static [(&'static str, &'static str)],
     /// The user's reference, `docs/<dialect>.md`: its `## Instruction reference` section gives
@@ -346,6 +350,22 @@ pub fn lessons() -> impl Iterator<Item = (&'static Dialect, &'static str, &'stat
 }
 
 /// Every example of every dialect, with its dialect.
+/// Every built-in example of several files: its dialect, title and files.
+pub fn example_projects() -> impl Iterator<Item = (&'static Dialect, &'static str, Project)> {
+    DIALECTS.iter().flat_map(|d| {
+        d.projects.iter().map(move |(title, files)| {
+            let files = files
+                .iter()
+                .map(|&(name, text)| crate::machine::project::SourceFile {
+                    name: name.to_string(),
+                    text: text.to_string(),
+                })
+                .collect();
+            (*d, *title, Project { files })
+        })
+    })
+}
+
 pub fn examples() -> impl Iterator<Item = (&'static Dialect, &'static str, &'static str)> {
     DIALECTS
         .iter()

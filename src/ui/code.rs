@@ -95,8 +95,12 @@ impl CodeView {
         self.pending_jump = Some(Jump::line(line));
     }
 
+    /// Back to the start, keeping the user's choice of gutter addresses.
     pub fn reset_view(&mut self) {
-        *self = CodeView::default();
+        *self = CodeView {
+            addresses: self.addresses,
+            ..CodeView::default()
+        };
     }
 
     /// The program line of the shown file's 1-based line `local`.

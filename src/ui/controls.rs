@@ -168,6 +168,23 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
                                 out.push(Command::LoadExample(i));
                             }
                         }
+                        for (i, (dialect, title, project)) in
+                            registry::example_projects().enumerate()
+                        {
+                            let title = format!(
+                                "{title}/{} ({} files)",
+                                project.top_name(),
+                                project.files.len()
+                            );
+                            if dialect.name == d.name
+                                && ui
+                                    .button(title)
+                                    .on_hover_text("A program of several files, as EasyMotion Studio lays them out")
+                                    .clicked()
+                            {
+                                out.push(Command::LoadExampleProject(i));
+                            }
+                        }
                         // Lessons (with steps and checks) apart from walk-through sessions.
                         for (heading, with_steps) in [("Lessons", true), ("Sessions", false)] {
                             ui.separator();

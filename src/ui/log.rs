@@ -129,7 +129,12 @@ impl LogView {
     }
 
     /// The shown entries as CSV: position, line, explanation, written locations.
-    pub fn write_csv(&self, w: &mut dyn std::io::Write) -> std::io::Result<()> {
+    /// Lines are as `project` names them (`12`, or `main.tml:12` with several files).
+    pub fn write_csv(
+        &self,
+        w: &mut dyn std::io::Write,
+        project: &crate::machine::project::Project,
+    ) -> std::io::Result<()> {
         writeln!(w, "tick,step,instruction,line,explanation,written")?;
         for r in &self.log.rows {
             let written: Vec<String> = r.written.iter().map(|(n, v)| format!("{n}={v}")).collect();
@@ -139,7 +144,7 @@ impl LogView {
                 r.at.tick,
                 r.at.step,
                 r.step,
-                r.line,
+                csv_field(&project.describe(r.line)),
                 csv_field(&r.explanation),
                 csv_field(&written.join(" "))
             )?;

@@ -95,6 +95,8 @@ pub enum Command {
     ExportCsv(PathBuf),
     /// An example of any dialect, by its index in [`registry::examples`].
     LoadExample(usize),
+    /// An example of several files, by its index in [`registry::example_projects`].
+    LoadExampleProject(usize),
     /// A lesson session of any dialect, by its index in [`registry::lessons`].
     LoadLesson(usize),
     /// File -> New: an empty program in the dialect with this name.
@@ -187,6 +189,8 @@ const MAX_RECENT: usize = 10;
 pub enum Pending {
     Open(PathBuf),
     Example(usize),
+    /// An example of several files, by its index in [`registry::example_projects`].
+    ExampleProject(usize),
     Lesson(usize),
     New(&'static str),
     Quit,
@@ -816,6 +820,17 @@ impl ServoscopeApp {
     fn perform(&mut self, action: Pending) {
         match action {
             Pending::Open(path) => self.open_path(path),
+            Pending::ExampleProject(i) => {
+                if let Some((dialect, _, project)) = registry::example_projects().nth(i) {
+                    self.set_lesson(None);
+                    self.debugger.load_project(dialect, project);
+                    self.file_text = Some(file_texts(&self.debugger));
+                    self.path = None;
+                    self.session_path = None;
+                    self.fresh_views();
+                    self.mark_saved();
+                }
+            }
             Pending::Example(i) => {
                 if let Some((dialect, name, text)) = registry::examples().nth(i) {
                     self.load_program_as(dialect, name, text);
@@ -916,6 +931,7 @@ impl ServoscopeApp {
                 ),
             },
             Command::LoadExample(i) => self.guarded(Pending::Example(i)),
+            Command::LoadExampleProject(i) => self.guarded(Pending::ExampleProject(i)),
             Command::LoadLesson(i) => self.guarded(Pending::Lesson(i)),
             Command::NewProgram(name) => self.guarded(Pending::New(name)),
             Command::DiscardAndContinue => {
@@ -1028,7 +1044,9 @@ impl ServoscopeApp {
             Command::ExportLogDialog => self.files.export_log.start(ctx),
             Command::ExportLog(path) => {
                 let rows = self.log.log.rows.len();
-                match crate::atomic::write_atomically(&path, |w| self.log.write_csv(w)) {
+                match crate::atomic::write_atomically(&path, |w| {
+                    self.log.write_csv(w, self.debugger.project())
+                }) {
                     Ok(()) => {
                         self.files.export_log.close();
                         self.notice =
@@ -1267,7 +1285,7 @@ fn replace_prompt(ctx: &egui::Context, path: &Path, reason: &str) -> Option<bool
 fn unsaved_prompt(ctx: &egui::Context, pending: Option<&Pending>, out: &mut Vec<Command>) {
     let what = match pending {
         Some(Pending::Open(path)) => format!("opening {}", path.display()),
-        Some(Pending::Example(_)) => "opening the example".to_string(),
+        Some(Pending::Example(_) | Pending::ExampleProject(_)) => "opening the example".to_string(),
         Some(Pending::Lesson(_)) => "opening the lesson".to_string(),
         Some(Pending::New(_)) => "starting a new program".to_string(),
         Some(Pending::Quit) | None => "closing servoscope".to_string(),

@@ -66,7 +66,10 @@ pub fn status_bar(ui: &mut egui::Ui, debugger: &Debugger) {
         }
         if let Some(event) = debugger.event() {
             ui.separator();
-            ui.label(RichText::new(event.describe(words.tick)).color(p.dim));
+            ui.label(
+                RichText::new(event.describe_with(words.tick, &|l| debugger.where_line(l)))
+                    .color(p.dim),
+            );
         }
     });
     ui.horizontal(|ui| {

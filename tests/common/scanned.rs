@@ -277,6 +277,7 @@ pub static SCANNED: Dialect = Dialect {
         condition_hint: "",
     },
     examples: &[],
+    projects: &[],
     lessons: &[],
     reference: "",
     mnemonics: &[],

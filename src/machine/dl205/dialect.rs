@@ -47,6 +47,7 @@ pub static DIALECT: Dialect = Dialect {
             include_str!("../../../assets/examples/batch_mixer.dl205"),
         ),
     ],
+    projects: &[],
     lessons: &[
         (
             "dl205_bcd_stack_task.ron",

@@ -56,6 +56,7 @@ pub static DIALECT: Dialect = Dialect {
             include_str!("../../../assets/examples/alarm.opennet"),
         ),
     ],
+    projects: &[],
     lessons: &[
         (
             "opennet_overflow_lesson.ron",

@@ -43,6 +43,7 @@ pub static DIALECT: Dialect = Dialect {
             include_str!("../../../assets/examples/call_ret.qsl"),
         ),
     ],
+    projects: &[],
     lessons: &[
         (
             "fifo_lifo_task.ron",

@@ -36,6 +36,32 @@ pub static DIALECT: Dialect = Dialect {
             include_str!("../../../assets/examples/wait_input.tml"),
         ),
     ],
+    projects: &[("easymotion_axis", &[
+            (
+                "motion.tml",
+                include_str!("../../../assets/examples/easymotion_axis/motion.tml"),
+            ),
+            (
+                "setup_interrupts.tml",
+                include_str!("../../../assets/examples/easymotion_axis/setup_interrupts.tml"),
+            ),
+            (
+                "setup_settings.tml",
+                include_str!("../../../assets/examples/easymotion_axis/setup_settings.tml"),
+            ),
+            (
+                "main.tml",
+                include_str!("../../../assets/examples/easymotion_axis/main.tml"),
+            ),
+            (
+                "homingmodes.tml",
+                include_str!("../../../assets/examples/easymotion_axis/homingmodes.tml"),
+            ),
+            (
+                "functions.tml",
+                include_str!("../../../assets/examples/easymotion_axis/functions.tml"),
+            ),
+    ])],
     lessons: &[
         (
             "tml_fixed_point_lesson.ron",
