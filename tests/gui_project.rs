@@ -149,6 +149,23 @@ fn editing_an_included_file_assembles_the_project_and_save_writes_the_changed_fi
         "a = 2;\n"
     );
     assert!(!h.state().program_modified());
+    // An `#include` typed in reads its file from beside the top file.
+    std::fs::write(dir.join("extra.tml"), "a += 40;\n").expect("w");
+    apply(
+        &mut h,
+        Command::EditFile(
+            0,
+            "int a;\n#include \"part.tml\"\n#include \"extra.tml\"\nEND;\n".into(),
+        ),
+    );
+    apply(&mut h, Command::Assemble);
+    assert!(
+        !h.state().debugger.has_errors(),
+        "{:?}",
+        h.state().debugger.diagnostics()
+    );
+    assert_eq!(h.state().debugger.project().files.len(), 3);
+    h.get_by_label("File extra.tml");
 }
 
 #[test]

@@ -401,6 +401,16 @@ impl Debugger {
         let file = file.min(self.project.files.len() - 1);
         &mut self.project.files[file].text
     }
+    /// Read from disk, beside the top file in `dir`, the files the program's texts now include
+    /// but it does not hold yet (an `#include` typed in): the next assembly has them.
+    pub fn add_new_includes(&mut self, dir: &std::path::Path) -> usize {
+        match self.dialect.includes {
+            Some(includes) => {
+                crate::machine::project::add_new_includes(&mut self.project, dir, includes)
+            }
+            None => 0,
+        }
+    }
     /// Whether file `file`'s text differs from what was assembled.
     pub fn is_file_edited(&self, file: usize) -> bool {
         self.project.files.get(file).map(|f| &f.text)

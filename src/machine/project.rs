@@ -232,8 +232,7 @@ fn find_on_disk(path: &Path) -> Option<PathBuf> {
 }
 
 /// Read the program whose top file is `top`, with every file it includes (by `includes`, the
-/// dialect's list of the paths a text includes), in order of first inclusion. A file that
-/// cannot be read is left out: the assembler reports it at its `#include` line. Only the top
+/// dialect's list of the paths a text includes), in order of first inclusion. Only the top
 /// file's own error is returned.
 pub fn load(
     top: &Path,
@@ -246,40 +245,56 @@ pub fn load(
     );
     let dir = top.parent().map(Path::to_path_buf).unwrap_or_default();
     let mut project = Project::single(name, text);
+    add_new_includes(&mut project, &dir, includes);
+    Ok(project)
+}
+
+/// The file named `wanted` (a name of [`resolve_include`]) of a program whose top file is in
+/// `dir`, read from disk and named as it is found there (so a case-folded include still names
+/// the real file); `None` when there is no such readable file.
+pub fn read_included(dir: &Path, wanted: &str) -> Option<SourceFile> {
+    let on_disk = if Path::new(wanted).is_absolute() {
+        PathBuf::from(wanted)
+    } else {
+        dir.join(wanted)
+    };
+    let found = find_on_disk(&on_disk)?;
+    let text = read_lossy(&found)?;
+    let name = if Path::new(wanted).is_absolute() {
+        found.to_string_lossy().replace('\\', "/")
+    } else {
+        found.strip_prefix(dir).map_or(wanted.to_string(), |p| {
+            p.to_string_lossy().replace('\\', "/")
+        })
+    };
+    Some(SourceFile { name, text })
+}
+
+/// Add the files `project`'s texts include that it does not hold yet and that can be read from
+/// disk (the top file is in `dir`), in order of first inclusion: when a project is loaded, and
+/// when an `#include` is typed in the window. A file that cannot be read is left out: the
+/// assembler reports it at its `#include` line. Returns how many were added.
+pub fn add_new_includes(
+    project: &mut Project,
+    dir: &Path,
+    includes: fn(&str) -> Vec<String>,
+) -> usize {
+    let before = project.files.len();
     let mut next = 0;
     while next < project.files.len() && project.files.len() < MAX_FILES {
         let includer = project.files[next].name.clone();
         for path in includes(&project.files[next].text) {
             let wanted = resolve_include(&includer, &path);
-            if project.index_of(&wanted).is_some() {
-                continue;
-            }
-            let on_disk = if Path::new(&wanted).is_absolute() {
-                PathBuf::from(&wanted)
-            } else {
-                dir.join(&wanted)
-            };
-            let Some(found) = find_on_disk(&on_disk) else {
-                continue;
-            };
-            let Some(text) = read_lossy(&found) else {
-                continue;
-            };
-            // The name as found on disk, so a case-folded include still names the real file.
-            let name = if Path::new(&wanted).is_absolute() {
-                found.to_string_lossy().replace('\\', "/")
-            } else {
-                found
-                    .strip_prefix(&dir)
-                    .map_or(wanted.clone(), |p| p.to_string_lossy().replace('\\', "/"))
-            };
-            if project.index_of(&name).is_none() {
-                project.files.push(SourceFile { name, text });
+            if project.index_of(&wanted).is_none()
+                && let Some(file) = read_included(dir, &wanted)
+                && project.index_of(&file.name).is_none()
+            {
+                project.files.push(file);
             }
         }
         next += 1;
     }
-    Ok(project)
+    project.files.len() - before
 }
 
 /// An included file's text: UTF-8 with an invalid byte read as U+FFFD (spec §1.1), within the

@@ -744,6 +744,9 @@ impl ServoscopeApp {
             if k > 0 && same_folder && saved.get(k) == Some(&f.text) {
                 continue;
             }
+            if let Some(folder) = target.parent() {
+                let _ = std::fs::create_dir_all(folder);
+            }
             if let Err(e) =
                 crate::atomic::write_atomically(&target, |w| w.write_all(f.text.as_bytes()))
             {
@@ -875,7 +878,13 @@ impl ServoscopeApp {
                 d.assemble();
             }
             Command::EditSource(text) => *d.source_mut() = text,
-            Command::EditFile(file, text) => *d.file_text_mut(file) = text,
+            Command::EditFile(file, text) => {
+                *d.file_text_mut(file) = text;
+                // An `#include` typed in: its file is read from beside the top file.
+                if let Some(dir) = self.path.as_ref().and_then(|p| p.parent()) {
+                    d.add_new_includes(dir);
+                }
+            }
             Command::ShowAddresses(shown) => self.code.addresses = shown,
             Command::SetSpeed(speed) => {
                 d.set_speed(speed);

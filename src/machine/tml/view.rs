@@ -568,11 +568,8 @@ impl MachineView for Tml {
             (
                 "TPOS",
                 band,
-                format!(
-                    "TPOS ± POSOKLIM ({band}); in position for {} of {} ticks",
-                    self.in_position,
-                    (self.data[d::TONPOSOK as usize] as u16).max(1)
-                ),
+                // Short: it is a legend entry; the count is in the Drive data panel.
+                format!("TPOS ± POSOKLIM ({band})"),
             )
         })
     }
