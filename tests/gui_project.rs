@@ -54,15 +54,18 @@ fn the_top_file_opens_the_whole_project_one_tab_per_file() {
     // forward.
     apply(&mut h, Command::StepCommand);
     assert_eq!(h.state().code.file, 1);
-    // The user looks at another file: stepping inside the same file leaves the view alone.
+    // The user looks at another file: it stays while nothing runs; the next step brings the
+    // statement about to run back into view.
     h.get_by_label("File functions.tml").click();
     h.run_steps(2);
     assert_eq!(h.state().code.file, 5);
+    h.run_steps(3);
+    assert_eq!(h.state().code.file, 5, "nothing ran: the chosen tab stays");
     apply(&mut h, Command::StepCommand);
     assert_eq!(
         h.state().code.file,
-        5,
-        "still in setup_interrupts.tml: no switch"
+        1,
+        "a step shows setup_interrupts.tml:5 again"
     );
     apply(&mut h, Command::StepCommand);
     assert_eq!(
@@ -143,6 +146,11 @@ fn editing_an_included_file_assembles_the_project_and_save_writes_the_changed_fi
     assert!(h.state().program_modified());
     apply(&mut h, Command::Assemble);
     assert!(!h.state().debugger.has_errors());
+    assert_eq!(
+        h.state().code.unsaved,
+        [false, true],
+        "assembled, still unsaved"
+    );
     apply(&mut h, Command::SaveProgram);
     assert_eq!(
         std::fs::read_to_string(dir.join("part.tml")).expect("read"),
@@ -206,4 +214,68 @@ fn ctrl_click_on_an_include_line_opens_the_file_it_names() {
     h.get_by_label("motion.tml").click();
     h.run_steps(2);
     assert_eq!(h.state().code.file, 0);
+}
+
+#[test]
+fn a_session_whose_files_changed_on_disk_says_so_and_runs_its_own_copies() {
+    let dir = std::env::temp_dir().join(format!("servoscope-gui-sess-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("dir");
+    std::fs::write(
+        dir.join("motion.tml"),
+        "int a;\n#include \"part.tml\"\nEND;\n",
+    )
+    .expect("w");
+    std::fs::write(dir.join("part.tml"), "a = 1;\n").expect("w");
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.open_path(dir.join("motion.tml"));
+    let mut h = harness(app);
+    apply(&mut h, Command::SaveSessionTo(dir.join("s.ron")));
+    std::fs::write(dir.join("part.tml"), "a = 99;\n").expect("w");
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.open_path(dir.join("s.ron"));
+    let notice = app.notice.clone().unwrap_or_default();
+    assert!(notice.contains("part.tml changed on disk"), "{notice}");
+    assert_eq!(app.debugger.project().files[1].text, "a = 1;\n");
+    // The session's copy is unsaved: its tab says so, and Save program writes it back (the
+    // top file, unchanged, is left alone).
+    let mut h = harness(app);
+    assert_eq!(h.state().code.unsaved, [false, true]);
+    let top_written = std::fs::metadata(dir.join("motion.tml"))
+        .and_then(|m| m.modified())
+        .ok();
+    apply(&mut h, Command::SaveProgram);
+    assert_eq!(
+        std::fs::read_to_string(dir.join("part.tml")).expect("r"),
+        "a = 1;\n"
+    );
+    assert_eq!(
+        std::fs::metadata(dir.join("motion.tml"))
+            .and_then(|m| m.modified())
+            .ok(),
+        top_written
+    );
+    assert!(!h.state().program_modified());
+    assert_eq!(h.state().code.unsaved, [false, false]);
+}
+
+#[test]
+fn clicking_a_problem_shows_its_file_and_line() {
+    let dir = std::env::temp_dir().join(format!("servoscope-gui-prob-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("dir");
+    std::fs::write(
+        dir.join("motion.tml"),
+        "int a;\n#include \"part.tml\"\nEND;\n",
+    )
+    .expect("w");
+    std::fs::write(dir.join("part.tml"), "a = 1;\nCPRX;\n").expect("w");
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.open_path(dir.join("motion.tml"));
+    let mut h = harness(app);
+    assert_eq!(h.state().code.file, 0);
+    h.get_by_label_contains("part.tml:2:1").click();
+    h.run_steps(3);
+    assert_eq!(h.state().code.file, 1, "the problem's file is shown");
+    assert_eq!(h.state().code.cursor_line, Some(Project::line(1, 2)));
 }

@@ -715,3 +715,30 @@ fn an_older_tml_session_still_opens() {
     );
     assert_eq!(d.breakpoints(), [2].into());
 }
+
+#[test]
+fn the_runner_saves_and_reruns_a_session_of_a_project() {
+    let dir = scratch_dir("runner-session");
+    let session = dir.join("end.ron");
+    let top = example_top();
+    let out = servoscope(&[
+        "run",
+        top.to_str().unwrap(),
+        "--json",
+        "--save-session",
+        session.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0));
+    let first: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let text = std::fs::read_to_string(&session).expect("saved");
+    assert!(text.contains("format: 3"), "{text}");
+    let again = servoscope(&["run", session.to_str().unwrap(), "--json"]);
+    assert_eq!(
+        again.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&again.stderr)
+    );
+    let second: serde_json::Value = serde_json::from_slice(&again.stdout).expect("json");
+    assert_eq!(first, second, "the session holds every file");
+}

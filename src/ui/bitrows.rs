@@ -121,8 +121,15 @@ fn line(ui: &mut egui::Ui, row: &BitRow, low: u8, high: u8, p: &Palette) {
 }
 
 /// A whole breakdown: what and where, its rows, the notes and the real-number line.
-pub fn breakdown(ui: &mut egui::Ui, b: &Breakdown, when: &str, p: &Palette) {
-    ui.label(RichText::new(format!("{when}: line {} — {}", b.line, b.command)).strong());
+/// `place` says where a line is ("line 12", or "main.tml:12" in a program of several files).
+pub fn breakdown(
+    ui: &mut egui::Ui,
+    b: &Breakdown,
+    when: &str,
+    place: &dyn Fn(usize) -> String,
+    p: &Palette,
+) {
+    ui.label(RichText::new(format!("{when}: {} — {}", place(b.line), b.command)).strong());
     // The arithmetic and what it loses first, the bits that show it after.
     if let Some(real) = &b.real {
         ui.label(RichText::new(real).monospace().color(p.written));

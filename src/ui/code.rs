@@ -57,6 +57,11 @@ pub struct CodeView {
     /// The file the line about to run was in at the last frame: entering another brings its
     /// tab forward.
     pc_file: Option<usize>,
+    /// The line about to run at the last frame.
+    pc_seen: Option<usize>,
+    /// Which files differ from what was opened or last saved (set by the window each frame):
+    /// their tabs are marked.
+    pub unsaved: Vec<bool>,
 }
 
 /// A place in the text: 1-based line and column (in characters), and how many characters
@@ -538,7 +543,7 @@ fn file_tabs(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, pc: Op
     let p = palette(ui.visuals().dark_mode);
     ui.horizontal_wrapped(|ui| {
         for (k, f) in debugger.project().files.iter().enumerate() {
-            let edited = debugger.is_file_edited(k);
+            let edited = view.unsaved.get(k).copied().unwrap_or(false);
             let running = pc.is_some_and(|l| Project::split(l).0 == k);
             let mut text = RichText::new(format!(
                 "{}{}{}",
@@ -550,13 +555,16 @@ fn file_tabs(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, pc: Op
             if running {
                 text = text.color(p.written);
             }
-            let tab = ui
-                .selectable_label(view.file == k, text)
-                .on_hover_text(if running {
-                    "The statement about to run is in this file"
-                } else {
-                    "Show this file"
-                });
+            let tab =
+                ui.selectable_label(view.file == k, text)
+                    .on_hover_text(match (running, edited) {
+                        (true, true) => {
+                            "The statement about to run is in this file; • unsaved changes"
+                        }
+                        (true, false) => "The statement about to run is in this file",
+                        (false, true) => "Show this file; • unsaved changes",
+                        (false, false) => "Show this file",
+                    });
             tab.widget_info(|| {
                 egui::WidgetInfo::selected(
                     egui::Role::Tab,
@@ -574,21 +582,27 @@ fn file_tabs(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, pc: Op
 
 pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &mut Vec<Command>) {
     let p = palette(ui.visuals().dark_mode);
+    // First: a problem clicked in its list may ask for a line of another file.
+    if !debugger.diagnostics().is_empty() {
+        problems(ui, debugger, view);
+    }
     let files = debugger.project().files.len().max(1);
     {
         let m = debugger.machine();
-        let pc_file = m
-            .pc_line()
-            .filter(|_| m.run_state().is_live())
-            .map(|l| Project::split(l).0);
-        // Execution entering another file brings its tab forward (not every step: the user
-        // may be reading another file meanwhile).
-        if pc_file != view.pc_file {
-            if let Some(f) = pc_file.filter(|&f| f < files) {
-                view.file = f;
-            }
-            view.pc_file = pc_file;
+        let pc = m.pc_line().filter(|_| m.run_state().is_live());
+        let pc_file = pc.map(|l| Project::split(l).0);
+        // The file of the statement about to run comes forward when execution enters it, and
+        // at every step or stop; not at every statement of a run, so another file can be
+        // read while the program runs.
+        let entered = pc_file != view.pc_file;
+        let stopped_elsewhere = pc != view.pc_seen && !debugger.is_running();
+        if (entered || stopped_elsewhere)
+            && let Some(f) = pc_file.filter(|&f| f < files)
+        {
+            view.file = f;
         }
+        view.pc_file = pc_file;
+        view.pc_seen = pc;
     }
     // A line asked for in another file shows that file.
     if let Some(j) = view.pending_jump {
@@ -613,9 +627,6 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
             view.bar_note = None;
             ui.memory_mut(|m| m.request_focus(Id::unique(BAR_ID)));
         }
-    }
-    if !debugger.diagnostics().is_empty() {
-        problems(ui, debugger, view);
     }
     let multi = debugger.project().is_multi();
     if multi {
@@ -654,9 +665,14 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
             if long {
                 super::code_rows::edit_switch(ui, view, view.lines.text_lines());
             }
-            if debugger.is_edited() {
+            if debugger.is_file_edited(file) {
                 ui.label(
                     RichText::new("edited: Ctrl+Enter assembles (or just step / run)")
+                        .color(p.written),
+                );
+            } else if debugger.is_edited() {
+                ui.label(
+                    RichText::new("another file is edited: Ctrl+Enter assembles them all")
                         .color(p.written),
                 );
             }

@@ -624,6 +624,18 @@ impl ServoscopeApp {
         self.debugger = debugger;
         self.path = session.program_path.clone();
         self.file_text = Some(file_texts(&self.debugger));
+        // A file that changed on disk differs from the session's copy in the window: it is
+        // unsaved, so its tab says so and Save program writes the copy back.
+        if let Some(saved) = self.file_text.as_mut() {
+            for (k, f) in self.debugger.project().files.iter().enumerate() {
+                if changed.contains(&f.name)
+                    && let Some(text) = saved.get_mut(k)
+                {
+                    text.clear();
+                    text.push('\u{0}');
+                }
+            }
+        }
         self.session_path = Some(path.to_path_buf());
         self.fresh_views();
         self.apply_view_settings(&session.view);
@@ -741,7 +753,14 @@ impl ServoscopeApp {
             } else {
                 dir.join(&f.name)
             };
-            if k > 0 && same_folder && saved.get(k) == Some(&f.text) {
+            // At the same place, only what changed is written (a new place gets every file).
+            let unchanged = saved.get(k) == Some(&f.text);
+            let same_place = if k == 0 {
+                self.path.as_ref() == Some(&path)
+            } else {
+                same_folder
+            };
+            if unchanged && same_place && target.exists() {
                 continue;
             }
             if let Some(folder) = target.parent() {
@@ -763,10 +782,10 @@ impl ServoscopeApp {
         self.file_text = Some(texts);
         self.remember(&path);
         self.files.save_program.close();
-        self.notice = Some(if written.len() > 1 {
-            format!("Program saved: {}", written.join(", "))
-        } else {
-            format!("Program saved to {}", path.display())
+        self.notice = Some(match written.len() {
+            0 => "No file changed since it was last saved".to_string(),
+            1 => format!("Program saved to {}", written[0]),
+            _ => format!("Program saved: {}", written.join(", ")),
         });
     }
 
@@ -1093,6 +1112,16 @@ impl ServoscopeApp {
             return;
         }
         let ctx = ui.ctx().clone();
+        // Which files differ from what was opened or saved: their tabs carry a •.
+        let saved = self.file_text.as_deref().unwrap_or_default();
+        self.code.unsaved = self
+            .debugger
+            .project()
+            .files
+            .iter()
+            .enumerate()
+            .map(|(k, f)| saved.get(k) != Some(&f.text))
+            .collect();
         if self.theme_applied != Some(self.prefs.dark) {
             theme::apply(&ctx, self.prefs.dark);
             self.theme_applied = Some(self.prefs.dark);

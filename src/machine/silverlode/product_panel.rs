@@ -70,5 +70,5 @@ impl DialectPanel for ProductPanel {
 }
 
 fn breakdown(ui: &mut egui::Ui, b: &Breakdown, when: &str, p: &crate::ui::theme::Palette) {
-    crate::ui::bitrows::breakdown(ui, b, when, p);
+    crate::ui::bitrows::breakdown(ui, b, when, &|l| format!("line {l}"), p);
 }

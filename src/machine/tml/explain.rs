@@ -18,6 +18,16 @@ fn name(m: &Tml, op: &Operand) -> String {
 }
 
 /// A value as its datum reads: fixed also in decimal.
+/// The label a `W16 = label` statement names, if `text` is one.
+fn assigned_label<'a>(m: &'a Tml, text: &str) -> Option<&'a str> {
+    let rhs = text.split_once('=')?.1.trim();
+    m.program
+        .labels
+        .iter()
+        .find(|(l, _)| l.eq_ignore_ascii_case(rhs))
+        .map(|(l, _)| l.as_str())
+}
+
 fn shown(op: &Operand, v: i64) -> String {
     if op.is_fixed() {
         format!("{v} = {} (fixed)", q16_exact(v))
@@ -53,6 +63,12 @@ pub fn explain(m: &Tml) -> Option<String> {
     let stmt = m.program.stmts.get(index)?;
     let [a, b, r] = m.last_vals;
     let text = match stmt.op {
+        // `W16 = label`: the address, in hex as program memory is read, and whose it is.
+        Op::Assign(dst, Value::Imm(_))
+            if let Some(label) = assigned_label(m, &stmt.text) =>
+        {
+            format!("{} = 0x{:04X}, the address of {label}", name(m, &dst), r as u16)
+        }
         Op::Assign(dst, src) => format!("{} = {}{}", name(m, &dst), match src {
             Value::Imm(_) => shown(&dst, r),
             Value::Var(s) => format!("{} = {}", name(m, &s), shown(&dst, r)),

@@ -66,12 +66,18 @@ impl DialectPanel for DriveDataPanel {
                         upgrade & 0xFFFF,
                         u8::from(rule),
                         if rule {
-                            format!(
-                                "motion complete waits {} tick(s) within ±{} counts; in position for {}",
+                            let window = format!(
+                                "motion complete waits {} tick(s) within ±{} counts",
                                 (m.data[d::TONPOSOK as usize] as u16).max(1),
                                 m.data[d::POSOKLIM as usize] as u16,
-                                m.in_position
-                            )
+                            );
+                            if m.profile.active {
+                                format!("{window}; the profile is still moving")
+                            } else if m.in_position == u16::MAX {
+                                format!("{window}; in position for 65535+ ticks")
+                            } else {
+                                format!("{window}; in position for {} tick(s)", m.in_position)
+                            }
                         } else {
                             "motion complete follows the reference".to_string()
                         }
@@ -79,11 +85,18 @@ impl DialectPanel for DriveDataPanel {
                     .monospace(),
                 );
                 ui.separator();
+                ui.label(
+                    RichText::new(
+                        "Table A: the data of every program. Table B: EasyMotion's setup data \
+                         (in the runner's JSON only when the program names them).",
+                    )
+                    .color(p.dim),
+                );
                 egui::Grid::new("tml_drive_data")
                     .striped(true)
-                    .num_columns(6)
+                    .num_columns(7)
                     .show(ui, |ui| {
-                        for h in ["name", "type", "address", "value", "access", "meaning"] {
+                        for h in ["name", "value", "address", "type", "table", "access", "meaning"] {
                             ui.label(RichText::new(h).strong());
                         }
                         ui.end_row();
@@ -93,11 +106,11 @@ impl DialectPanel for DriveDataPanel {
                                 Some(a) => format!("{} ({a})", pre.name),
                                 None => pre.name.to_string(),
                             };
-                            let table = if pre.table_b { " B" } else { "" };
                             ui.label(RichText::new(name).monospace());
-                            ui.label(format!("{}{table}", pre.ty.name()));
-                            ui.label(RichText::new(format!("0x{:04X}", pre.address)).monospace());
                             ui.label(RichText::new(typed_value(raw, pre.ty)).monospace());
+                            ui.label(RichText::new(format!("0x{:04X}", pre.address)).monospace());
+                            ui.label(pre.ty.name());
+                            ui.label(if pre.table_b { "B" } else { "A" });
                             ui.label(if pre.writable { "rw" } else { "r" });
                             ui.label(RichText::new(pre.description).color(p.dim));
                             ui.end_row();
@@ -110,9 +123,10 @@ impl DialectPanel for DriveDataPanel {
                             .zip(m.program.var_addresses())
                         {
                             ui.label(RichText::new(&v.name).monospace());
-                            ui.label(v.ty.name());
-                            ui.label(RichText::new(format!("0x{address:04X}")).monospace());
                             ui.label(RichText::new(typed_value(raw, v.ty)).monospace());
+                            ui.label(RichText::new(format!("0x{address:04X}")).monospace());
+                            ui.label(v.ty.name());
+                            ui.label("var");
                             ui.label("rw");
                             ui.label(
                                 RichText::new(format!(
@@ -151,9 +165,9 @@ impl DialectPanel for LabelsPanel {
             .show(ui, |ui| {
                 ui.label(
                     RichText::new(format!(
-                        "Program memory 0x4000–0x{:04X} ({} words)",
-                        m.program.end_address,
-                        m.program.end_address - super::PROGRAM_BASE
+                        "Program memory from 0x4000: {} words; the end address is 0x{:04X}",
+                        m.program.end_address - super::PROGRAM_BASE,
+                        m.program.end_address
                     ))
                     .color(p.dim),
                 );
@@ -161,7 +175,7 @@ impl DialectPanel for LabelsPanel {
                     .striped(true)
                     .num_columns(3)
                     .show(ui, |ui| {
-                        for h in ["label", "line", "address"] {
+                        for h in ["label", "address", "line"] {
                             ui.label(RichText::new(h).strong());
                         }
                         ui.end_row();
@@ -169,6 +183,13 @@ impl DialectPanel for LabelsPanel {
                             m.program.labels.iter().zip(&m.program.label_lines)
                         {
                             ui.label(RichText::new(name).monospace());
+                            ui.label(
+                                RichText::new(format!(
+                                    "0x{:04X}",
+                                    m.program.address_of(*index as usize)
+                                ))
+                                .monospace(),
+                            );
                             let at = debugger.describe_line(line);
                             if ui
                                 .link(RichText::new(&at).monospace())
@@ -177,13 +198,6 @@ impl DialectPanel for LabelsPanel {
                             {
                                 out.push(Command::ShowLine(line));
                             }
-                            ui.label(
-                                RichText::new(format!(
-                                    "0x{:04X}",
-                                    m.program.address_of(*index as usize)
-                                ))
-                                .monospace(),
-                            );
                             ui.end_row();
                         }
                     });
@@ -214,13 +228,13 @@ impl DialectPanel for ProductPanel {
             egui::ScrollArea::both()
                 .id_salt("preg_scroll")
                 .auto_shrink([false, false])
-                .show(ui, |ui| product(ui, m));
+                .show(ui, |ui| product(ui, m, &|l| debugger.where_line(l)));
         }
     }
 }
 
 /// PREG's 48 bits, most significant first, with PRODH (47..16) above and PROD (31..0) below.
-fn product(ui: &mut egui::Ui, m: &Tml) {
+fn product(ui: &mut egui::Ui, m: &Tml, place: &dyn Fn(usize) -> String) {
     let p = palette(ui.visuals().dark_mode);
     let preg = m.preg;
     ui.horizontal_wrapped(|ui| {
@@ -281,14 +295,14 @@ fn product(ui: &mut egui::Ui, m: &Tml) {
     .on_hover_text("A fixed × int product is 32.16: PRODH is its integer part, PROD's low half its fraction.");
     ui.separator();
     if let Some(division) = super::arith::division_at_pc(m) {
-        crate::ui::bitrows::breakdown(ui, &division, "About to run", &p);
+        crate::ui::bitrows::breakdown(ui, &division, "About to run", place, &p);
         ui.separator();
     }
     match super::arith::last_multiply(m) {
         None => {
             ui.label(RichText::new("No multiply yet: `A * B << n;` fills PREG.").color(p.dim));
         }
-        Some(b) => crate::ui::bitrows::breakdown(ui, &b, "Last multiply", &p),
+        Some(b) => crate::ui::bitrows::breakdown(ui, &b, "Last multiply", place, &p),
     }
 }
 

@@ -598,7 +598,7 @@ impl MachineView for Tml {
                             format!("'{}'", self.program.stmts[i].text)
                         }
                         Some(_) => "the end".to_string(),
-                        None => "no statement: bad_address".to_string(),
+                        None => "no statement starts there".to_string(),
                     };
                     Some((s.line, format!("→ 0x{address:04X} = {whither}")))
                 }
