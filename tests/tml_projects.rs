@@ -742,3 +742,74 @@ fn the_runner_saves_and_reruns_a_session_of_a_project() {
     let second: serde_json::Value = serde_json::from_slice(&again.stdout).expect("json");
     assert_eq!(first, second, "the session holds every file");
 }
+
+#[test]
+fn an_included_file_from_another_editor_reads_the_same() {
+    // A byte-order mark and CR LF line ends change nothing, positions included.
+    let p = project(&[
+        ("m.tml", "int a;\r\n#include \"w.tml\"\r\nEND;\r\n"),
+        ("w.tml", "\u{feff}// from Windows\r\na = 3;\r\nBAD;\r\n"),
+    ]);
+    assert_eq!(
+        errors_of(&p),
+        ["w.tml:3:1: error: unknown instruction 'BAD'"]
+    );
+}
+
+#[test]
+fn tables_a_and_b_have_the_specs_types_addresses_and_access() {
+    use servoscope::machine::tml::{PREDEFINED, Ty};
+    // Spec §2.1 and §2.2, row by row.
+    let spec: &[(&str, Ty, u16, bool, bool)] = &[
+        ("CPOS", Ty::Long, 0x029E, true, false),
+        ("CSPD", Ty::Fixed, 0x02A0, true, false),
+        ("CACC", Ty::Fixed, 0x02A2, true, false),
+        ("TPOS", Ty::Long, 0x02B2, false, false),
+        ("TSPD", Ty::Fixed, 0x02B4, false, false),
+        ("APOS", Ty::Long, 0x0228, false, false),
+        ("ASPD", Ty::Fixed, 0x022C, false, false),
+        ("POSERR", Ty::Int, 0x022A, false, false),
+        ("ATIME", Ty::Long, 0x02C0, false, false),
+        ("SRL", Ty::Uint, 0x090E, false, false),
+        ("SRH", Ty::Uint, 0x090F, false, false),
+        ("MER", Ty::Uint, 0x08FC, false, false),
+        ("DER", Ty::Uint, 0x03AD, false, false),
+        ("UPGRADE", Ty::Int, 0x0857, true, false),
+        ("FLAGUV", Ty::Int, 0x02FB, false, false),
+        ("PROD", Ty::Long, 0x030E, false, false),
+        ("PRODH", Ty::Long, 0x030F, false, false),
+        ("TACC", Ty::Fixed, 0x02B6, false, true),
+        ("RTIME", Ty::Long, 0x02C2, false, true),
+        ("MCR", Ty::Uint, 0x0309, false, true),
+        ("POSOKLIM", Ty::Uint, 0x036A, true, true),
+        ("TONPOSOK", Ty::Uint, 0x036B, true, true),
+        ("VAR_I1", Ty::Int, 0x0366, true, true),
+        ("VAR_I2", Ty::Int, 0x0367, true, true),
+        ("VAR_I3", Ty::Int, 0x0979, true, true),
+        ("VAR_LF", Ty::Long, 0x0368, true, true),
+        ("DoTMLInitializations", Ty::Int, 0x09C0, true, true),
+        ("ExecuteMain", Ty::Uint, 0x09BF, true, true),
+        ("ExecuteAutotuning", Ty::Uint, 0x0998, true, true),
+        ("HOMINGTABLE_POINTER", Ty::Uint, 0x09C1, true, true),
+        ("FUNCTIONTABLE_POINTER", Ty::Uint, 0x09C9, true, true),
+    ];
+    assert_eq!(PREDEFINED.len(), spec.len());
+    for (p, &(name, ty, address, writable, table_b)) in PREDEFINED.iter().zip(spec) {
+        assert_eq!(
+            (p.name, p.ty, p.address, p.writable, p.table_b),
+            (name, ty, address, writable, table_b)
+        );
+    }
+    // All start at 0 but SRL (0x8400: axis on, motion complete).
+    let m = machine("").expect("empty");
+    for (i, p) in PREDEFINED.iter().enumerate() {
+        let raw = m.raw(servoscope::machine::tml::program::Data::Pre(i as u8));
+        assert_eq!(raw, if p.name == "SRL" { 0x8400 } else { 0 }, "{}", p.name);
+    }
+    // User variables from 0x03B0: an int one word, a long or fixed two at an even address.
+    let m = machine("int a; long b; int c; fixed d; int e;").expect("declares");
+    assert_eq!(
+        m.program.var_addresses(),
+        [0x03B0, 0x03B2, 0x03B4, 0x03B6, 0x03B8]
+    );
+}
