@@ -259,13 +259,19 @@ fn the_runner_names_each_file_as_reached_from_the_command_line() {
     assert!(out.stdout.is_empty());
     let stderr = String::from_utf8_lossy(&out.stderr);
     let want = format!(
-        "{}:7:5: error: undeclared variable 'CPOSS' (did you mean 'CPOS'?)",
+        "{}:7:5: error: undeclared variable or undefined label 'CPOSS' (did you mean 'CPOS'?)",
         dir.join("main.tml").display()
     );
     assert!(stderr.contains(&want), "{stderr}");
-    // main.tml alone: the sibling's labels would be undefined, but this one stands alone.
-    let alone = servoscope(&["run", dir.join("main.tml").to_str().unwrap()]);
+    // A part run alone: its sibling's labels are undefined, and the error says it may be one.
+    let part = Path::new(EXAMPLE).join("main.tml");
+    let alone = servoscope(&["run", part.to_str().unwrap()]);
     assert_eq!(alone.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&alone.stderr);
+    assert!(
+        stderr.contains("error: undeclared variable or undefined label 'Homing1'"),
+        "{stderr}"
+    );
 }
 
 // ---- §2.2 table B ----------------------------------------------------------------------------

@@ -865,12 +865,17 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                 // about to run is brought back into view if it fell out of it.
                 let resized = (view.pc_view_height - clip.height()).abs() > 0.5;
                 view.pc_view_height = clip.height();
-                let pc_hidden =
-                    pc_line.is_some_and(|l| !rows.visible(clip.top(), clip.bottom()).contains(&l));
-                let scroll_to = jump
-                    .map(|j| j.line)
-                    .or_else(|| pc_moved(view, pc_line))
-                    .or(if resized && pc_hidden { pc_line } else { None });
+                // Hidden also when cut by the pane's edge.
+                let pc_hidden = pc_line.is_some_and(|l| {
+                    !rows
+                        .rect(l)
+                        .is_some_and(|r| r.top() >= clip.top() && r.bottom() <= clip.bottom())
+                });
+                let moved_to = jump.map(|j| j.line).or_else(|| pc_moved(view, pc_line));
+                // After a resize the line comes back to the middle: asked again in the frames
+                // of one resize, a centre stays put where a minimal scroll would add up.
+                let recentre = moved_to.is_none() && resized && pc_hidden;
+                let scroll_to = moved_to.or(if recentre { pc_line } else { None });
                 if let Some(rect) = scroll_to.and_then(|line| rows.rect(line)) {
                     // Two lines of margin, so the line never hides under a scroll bar.
                     // Only vertically: from the gutter's edge, so the line numbers stay in view
@@ -879,7 +884,7 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                         .with_min_x(gutter.left())
                         .with_max_x(gutter.left() + 1.0)
                         .expand2(vec2(0.0, 2.0 * row_height));
-                    ui.scroll_to_rect(rect, None);
+                    ui.scroll_to_rect(rect, recentre.then_some(egui::Align::Center));
                 }
                 let mut caret = output.cursor_range.map(|r| r.primary.index.0);
                 if output.response.changed() {

@@ -898,6 +898,20 @@ fn assignment(ts: &[Token], at: &mut usize, names: &mut Names, lhs: Operand, lhs
     if matches!(t.tok, Tok::Punct("(")) {
         return not_supported(&t, "addressing through a variable ((var),dm)");
     }
+    // Into 16-bit data an unknown name may be a label of a file not included (a part run
+    // alone): say both.
+    if let Tok::Ident(name) = &t.tok
+        && lhs.bits() == 16
+        && !negate
+        && predefined(name).is_none()
+        && unmodelled(name).is_none()
+        && !name.eq_ignore_ascii_case("PREG")
+        && !name.eq_ignore_ascii_case("IN")
+        && !names.var_index.contains_key(&name.to_ascii_uppercase())
+    {
+        let hint = names.suggestion(name);
+        return err(t.col, t.len, format!("undeclared variable or undefined label '{name}'{hint}"));
+    }
     if let Tok::Ident(name) = &t.tok
         && name.eq_ignore_ascii_case("IN")
         && punct(ts, *at + 1, "(")
