@@ -27,6 +27,20 @@ fn apply(h: &mut Harness<'static, ServoscopeApp>, command: Command) {
     h.run_steps(3);
 }
 
+/// A folder holding `motion.tml` (`int a;`, the include of `part.tml`, `END;`) and `part.tml`.
+fn two_file_project(name: &str, part: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("servoscope-gui-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("dir");
+    std::fs::write(
+        dir.join("motion.tml"),
+        "int a;\n#include \"part.tml\"\nEND;\n",
+    )
+    .expect("w");
+    std::fs::write(dir.join("part.tml"), part).expect("w");
+    dir
+}
+
 fn project_app() -> ServoscopeApp {
     let mut app = ServoscopeApp::new(Prefs::default());
     app.open_path(TOP.into());
@@ -129,15 +143,7 @@ fn a_jump_to_a_line_of_another_file_shows_that_file() {
 
 #[test]
 fn editing_an_included_file_assembles_the_project_and_save_writes_the_changed_file() {
-    let dir = std::env::temp_dir().join(format!("servoscope-gui-proj-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("dir");
-    std::fs::write(
-        dir.join("motion.tml"),
-        "int a;\n#include \"part.tml\"\nEND;\n",
-    )
-    .expect("w");
-    std::fs::write(dir.join("part.tml"), "a = 1;\n").expect("w");
+    let dir = two_file_project("proj", "a = 1;\n");
     let mut app = ServoscopeApp::new(Prefs::default());
     app.open_path(dir.join("motion.tml"));
     let mut h = harness(app);
@@ -218,15 +224,7 @@ fn ctrl_click_on_an_include_line_opens_the_file_it_names() {
 
 #[test]
 fn a_session_whose_files_changed_on_disk_says_so_and_runs_its_own_copies() {
-    let dir = std::env::temp_dir().join(format!("servoscope-gui-sess-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("dir");
-    std::fs::write(
-        dir.join("motion.tml"),
-        "int a;\n#include \"part.tml\"\nEND;\n",
-    )
-    .expect("w");
-    std::fs::write(dir.join("part.tml"), "a = 1;\n").expect("w");
+    let dir = two_file_project("sess", "a = 1;\n");
     let mut app = ServoscopeApp::new(Prefs::default());
     app.open_path(dir.join("motion.tml"));
     let mut h = harness(app);
@@ -261,15 +259,7 @@ fn a_session_whose_files_changed_on_disk_says_so_and_runs_its_own_copies() {
 
 #[test]
 fn clicking_a_problem_shows_its_file_and_line() {
-    let dir = std::env::temp_dir().join(format!("servoscope-gui-prob-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("dir");
-    std::fs::write(
-        dir.join("motion.tml"),
-        "int a;\n#include \"part.tml\"\nEND;\n",
-    )
-    .expect("w");
-    std::fs::write(dir.join("part.tml"), "a = 1;\nCPRX;\n").expect("w");
+    let dir = two_file_project("prob", "a = 1;\nCPRX;\n");
     let mut app = ServoscopeApp::new(Prefs::default());
     app.open_path(dir.join("motion.tml"));
     let mut h = harness(app);

@@ -166,51 +166,25 @@ impl Tml {
                 vals = [old, 0, self.read_operand(&dst)];
             }
             Op::Jump { target, call, cond } => {
-                let taken = match cond {
-                    Some((x, c)) => {
-                        let v = self.read_operand(&x);
-                        vals[0] = v;
-                        c.holds(v)
-                    }
-                    None => true,
-                };
-                vals[1] = i64::from(taken);
+                let taken = self.jump_taken(cond, &mut vals);
                 if taken {
-                    if call {
-                        if self.stack.len() >= STACK_DEPTH {
-                            self.data[d::MER as usize] |= mer::COMMAND_ERROR;
-                            self.data[d::DER as usize] |= der::STACK_OVERFLOW;
-                            return Outcome::Fault(Fault::StackOverflow);
-                        }
-                        self.stack.push(self.pc + 1);
+                    if let Err(fault) = self.push_return(call) {
+                        return Outcome::Fault(fault);
                     }
                     next = target;
                 }
             }
             Op::JumpVia { via, call, cond } => {
-                let taken = match cond {
-                    Some((x, c)) => {
-                        let v = self.read_operand(&x);
-                        vals[0] = v;
-                        c.holds(v)
-                    }
-                    None => true,
-                };
+                let taken = self.jump_taken(cond, &mut vals);
                 let address = self.read_operand(&via) as u16;
-                vals[1] = i64::from(taken);
                 vals[2] = i64::from(address);
                 if taken {
                     // The address comes before CALL's stack check (spec §5.7).
                     let Some(to) = self.program.statement_at(u32::from(address)) else {
                         return Outcome::Fault(Fault::BadAddress { address, call });
                     };
-                    if call {
-                        if self.stack.len() >= STACK_DEPTH {
-                            self.data[d::MER as usize] |= mer::COMMAND_ERROR;
-                            self.data[d::DER as usize] |= der::STACK_OVERFLOW;
-                            return Outcome::Fault(Fault::StackOverflow);
-                        }
-                        self.stack.push(self.pc + 1);
+                    if let Err(fault) = self.push_return(call) {
+                        return Outcome::Fault(fault);
                     }
                     next = to as u32;
                 }
@@ -293,6 +267,35 @@ impl Tml {
             self.ended = true;
         }
         Outcome::Done
+    }
+
+    /// Whether a GOTO/CALL with `cond` jumps; notes the tested value and the outcome in
+    /// `vals` for the explanation.
+    fn jump_taken(&self, cond: Option<(Operand, super::program::Cond)>, vals: &mut [i64; 3]) -> bool {
+        let taken = match cond {
+            Some((x, c)) => {
+                let v = self.read_operand(&x);
+                vals[0] = v;
+                c.holds(v)
+            }
+            None => true,
+        };
+        vals[1] = i64::from(taken);
+        taken
+    }
+
+    /// A taken CALL pushes its return point; on a full stack it faults (spec §5.7).
+    fn push_return(&mut self, call: bool) -> Result<(), Fault> {
+        if !call {
+            return Ok(());
+        }
+        if self.stack.len() >= STACK_DEPTH {
+            self.data[d::MER as usize] |= mer::COMMAND_ERROR;
+            self.data[d::DER as usize] |= der::STACK_OVERFLOW;
+            return Err(Fault::StackOverflow);
+        }
+        self.stack.push(self.pc + 1);
+        Ok(())
     }
 
     /// `UPD` (spec §5.8): start or retarget the profile, or ignore it with the error bits set.
