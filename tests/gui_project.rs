@@ -269,3 +269,35 @@ fn clicking_a_problem_shows_its_file_and_line() {
     assert_eq!(h.state().code.file, 1, "the problem's file is shown");
     assert_eq!(h.state().code.cursor_line, Some(Project::line(1, 2)));
 }
+
+#[test]
+fn save_program_never_writes_outside_the_programs_folder() {
+    let dir = two_file_project("outside", "a = 1;\n");
+    let above = dir
+        .parent()
+        .expect("a parent")
+        .join(format!("servoscope-evil-{}.tml", std::process::id()));
+    let _ = std::fs::remove_file(&above);
+    let name = format!("../{}", above.file_name().unwrap().to_string_lossy());
+    let session = format!(
+        "(format: 3, dialect: \"tml\", program_name: \"motion.tml\", program_path: Some({:?}), \
+         program: \"int a;\\n#include \\\"{name}\\\"\\nEND;\\n\", files: [(name: \"{name}\", text: \"a = 6;\\n\")])",
+        dir.join("motion.tml")
+    );
+    std::fs::write(dir.join("s.ron"), session).expect("w");
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.open_path(dir.join("s.ron"));
+    assert!(
+        !app.debugger.has_errors(),
+        "{:?}",
+        app.debugger.diagnostics()
+    );
+    let mut h = harness(app);
+    apply(&mut h, Command::SaveProgram);
+    assert!(
+        !above.exists(),
+        "nothing written above the program's folder"
+    );
+    let notice = h.state().notice.clone().unwrap_or_default();
+    assert!(notice.contains("Not written"), "{notice}");
+}

@@ -371,10 +371,11 @@ impl Debugger {
     /// The program's name changes (saved under another file name); nothing else does.
     pub fn rename(&mut self, name: impl Into<String>) {
         self.name = name.into();
-        if !self.project.is_multi()
-            && let Some(top) = self.project.files.first_mut()
-        {
-            top.name = self.name.clone();
+        // Included files are named relative to the top file's folder, not its name.
+        for project in [&mut self.project, &mut self.assembled] {
+            if let Some(top) = project.files.first_mut() {
+                top.name = self.name.clone();
+            }
         }
     }
     /// The top file's text.
@@ -429,8 +430,10 @@ impl Debugger {
             format!("line {line}")
         }
     }
+    /// Whether any file's text differs from what was assembled (or a file came or went).
     pub fn is_edited(&self) -> bool {
-        self.project != self.assembled
+        self.project.files.len() != self.assembled.files.len()
+            || (0..self.project.files.len()).any(|f| self.is_file_edited(f))
     }
     pub fn diagnostics(&self) -> &[Diagnostic] {
         &self.diagnostics

@@ -747,12 +747,30 @@ impl ServoscopeApp {
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let saved = self.file_text.clone().unwrap_or_default();
         let mut written = Vec::new();
+        let mut texts = texts;
+        let mut outside = Vec::new();
         for (k, f) in self.debugger.project().files.iter().enumerate() {
             let target = if k == 0 {
                 path.clone()
             } else {
                 dir.join(&f.name)
             };
+            // Never written outside the top file's folder: a session file names the files, and
+            // a crafted one must not make Save program overwrite anything elsewhere. Such a
+            // file stays unsaved.
+            let escapes = Path::new(&f.name).is_absolute()
+                || Path::new(&f.name)
+                    .components()
+                    .any(|c| matches!(c, std::path::Component::ParentDir));
+            if k > 0 && escapes {
+                if saved.get(k) != Some(&f.text) {
+                    outside.push(f.name.clone());
+                    if let (Some(t), Some(old)) = (texts.get_mut(k), saved.get(k)) {
+                        t.clone_from(old);
+                    }
+                }
+                continue;
+            }
             // At the same place, only what changed is written (a new place gets every file).
             let unchanged = saved.get(k) == Some(&f.text);
             let same_place = if k == 0 {
@@ -782,11 +800,18 @@ impl ServoscopeApp {
         self.file_text = Some(texts);
         self.remember(&path);
         self.files.save_program.close();
-        self.notice = Some(match written.len() {
+        let mut notice = match written.len() {
             0 => "No file changed since it was last saved".to_string(),
             1 => format!("Program saved to {}", written[0]),
             _ => format!("Program saved: {}", written.join(", ")),
-        });
+        };
+        if !outside.is_empty() {
+            notice.push_str(&format!(
+                ". Not written, being outside the program's folder: {} (open it on its own to save it)",
+                outside.join(", ")
+            ));
+        }
+        self.notice = Some(notice);
     }
 
     /// Save the session to `path` (atomically). Errors leave the old file and are reported; a
