@@ -152,6 +152,23 @@ fn examples(c: &mut Criterion) {
             .and_then(|n| n.to_str())
             .unwrap_or("")
             .to_string();
+        if path.is_dir() {
+            // A TML project (EasyMotion's layout): its top file made endless, then assembled
+            // with its included files.
+            let tml = servoscope::machine::registry::by_name("tml").expect("TML");
+            let mut project = tml.load(&path.join("motion.tml")).expect("project reads");
+            project.files[0].text = endless(&project.files[0].text, "//", "GOTO bench_restart;");
+            let program = servoscope::machine::tml::assembler::assemble_project(&project)
+                .expect("project assembles");
+            let start = servoscope::machine::tml::Tml::new(std::sync::Arc::new(program));
+            bench_example(
+                &mut group,
+                &format!("{name}/motion.tml"),
+                start,
+                COMMANDS / 10,
+            );
+            continue;
+        }
         let src = std::fs::read_to_string(&path).expect("example reads");
         match path.extension().and_then(|e| e.to_str()) {
             Some("qsl") => {

@@ -329,6 +329,7 @@ impl Tml {
     }
 
     /// Phases 3–6 of a tick.
+    #[inline]
     fn finish_tick(&mut self) {
         // 3. motion
         self.profile.advance();
@@ -348,14 +349,18 @@ impl Tml {
         }
         let err = tpos.wrapping_sub(self.data[d::APOS as usize] as i32);
         self.data[d::POSERR as usize] = err.clamp(-32768, 32767) as u32 & 0xFFFF;
-        // The in-position count and motion complete (spec §6.1).
-        let band = i64::from(self.data[d::POSOKLIM as usize] as u16);
-        self.in_position = if !self.profile.active && i64::from(err).abs() <= band {
+        // The in-position count and motion complete (spec §6.1; `motion_complete` spelled out
+        // here, where every tick pays for it).
+        let active = self.profile.active;
+        let band = self.data[d::POSOKLIM as usize] & 0xFFFF;
+        self.in_position = if !active && err.unsigned_abs() <= band {
             self.in_position.saturating_add(1)
         } else {
             0
         };
-        let complete = self.motion_complete();
+        let complete = !active
+            && (self.data[d::UPGRADE as usize] & super::UPGRADE_IN_POSITION == 0
+                || self.in_position >= (self.data[d::TONPOSOK as usize] as u16).max(1));
         self.srl_set(srl::MOTION_COMPLETE, complete);
         // 4. time
         self.data[d::ATIME as usize] = self.data[d::ATIME as usize].wrapping_add(1);
