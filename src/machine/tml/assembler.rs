@@ -1168,7 +1168,6 @@ fn directive(chars: &[char]) -> Option<Directive> {
     if chars[hash] != '#' {
         return None;
     }
-    let text: String = chars.iter().collect();
     // A trailing `//` comment is allowed, but not inside the quoted path.
     let mut end = chars.len();
     let mut quoted = false;
@@ -1209,7 +1208,6 @@ fn directive(chars: &[char]) -> Option<Directive> {
     if inner.trim().is_empty() {
         return Some(Directive::Bad(word_col, word.len(), "empty #include path".into()));
     }
-    let _ = text;
     Some(Directive::Include(inner.to_string()))
 }
 
