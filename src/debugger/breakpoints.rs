@@ -190,7 +190,7 @@ pub struct Checker {
     /// Line breakpoints by line (index = line): indices into `compiled`.
     /// Breakpoint indexes by program line (a map: a project's lines are sparse, see
     /// [`crate::machine::project`]).
-    by_line: std::collections::BTreeMap<usize, Vec<usize>>,
+    by_line: LineTable,
     data: Vec<DataCheck>,
     hits: Vec<u64>,
     /// Going back: no counts, no log points.
@@ -201,6 +201,50 @@ pub struct Checker {
     pub hit: Option<Hit>,
     /// The problems found compiling, by breakpoint index.
     pub errors: Vec<Option<BreakError>>,
+}
+
+/// Breakpoint indexes by program line: a table indexed by line for the top file (the one every
+/// program has, looked up at each instruction; sized by the program, as a line past the file's
+/// end never gets here) and a map for the lines of included files, which are sparse
+/// ([`crate::machine::project`]).
+#[derive(Debug, Default)]
+struct LineTable {
+    top: Vec<Vec<usize>>,
+    others: std::collections::BTreeMap<usize, Vec<usize>>,
+}
+
+impl LineTable {
+    fn push(&mut self, line: usize, index: usize) {
+        if line < crate::machine::project::FILE_LINES {
+            if self.top.len() <= line {
+                self.top.resize_with(line + 1, Vec::new);
+            }
+            self.top[line].push(index);
+        } else {
+            self.others.entry(line).or_default().push(index);
+        }
+    }
+
+    #[inline]
+    fn get(&self, line: usize) -> &[usize] {
+        match self.top.get(line) {
+            Some(at) => at,
+            None if line < crate::machine::project::FILE_LINES => &[],
+            None => self.others.get(&line).map_or(&[], Vec::as_slice),
+        }
+    }
+
+    fn is_empty(&self) -> bool {
+        self.top.is_empty() && self.others.is_empty()
+    }
+
+    /// The lines with a breakpoint, in order.
+    fn lines(&self) -> Vec<usize> {
+        (0..self.top.len())
+            .filter(|&l| !self.top[l].is_empty())
+            .chain(self.others.keys().copied())
+            .collect()
+    }
 }
 
 impl Checker {
@@ -244,7 +288,7 @@ impl Checker {
             c.errors.push(error);
             if b.enabled && compiled.is_some() {
                 match &b.kind {
-                    BreakKind::Line(l) => c.by_line.entry(*l).or_default().push(index),
+                    BreakKind::Line(l) => c.by_line.push(*l, index),
                     BreakKind::Data { location, trigger } => {
                         if let Some(loc) = m.find(location)
                             && let Some(info) = m.info(loc)
@@ -279,12 +323,7 @@ impl Checker {
     /// data breakpoints' locations (until one is written, a data breakpoint cannot fire: its
     /// value and "written" stay as they were).
     pub fn quiet_plan(&self) -> (Vec<usize>, Vec<Loc>) {
-        let lines = self
-            .by_line
-            .iter()
-            .filter(|(_, at)| !at.is_empty())
-            .map(|(&l, _)| l)
-            .collect();
+        let lines = self.by_line.lines();
         (lines, self.data.iter().map(|d| d.loc).collect())
     }
 
@@ -342,7 +381,7 @@ impl Checker {
 
     /// Whether a line breakpoint could stop on `line` (the gutter, quick tests).
     pub fn watches_line(&self, line: usize) -> bool {
-        self.by_line.get(&line).is_some_and(|v| !v.is_empty())
+        !self.by_line.get(line).is_empty()
     }
 
     /// Asked at every instruction boundary: whether to stop here. Counts hits, writes log
@@ -358,9 +397,9 @@ impl Checker {
         let Some(line) = m.pc_line() else {
             return false;
         };
-        let count = self.by_line.get(&line).map_or(0, Vec::len);
+        let count = self.by_line.get(line).len();
         for k in 0..count {
-            let index = self.by_line[&line][k];
+            let index = self.by_line.get(line)[k];
             if self.fire(index, m, line, None) {
                 return true;
             }
