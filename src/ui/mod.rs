@@ -1192,7 +1192,12 @@ impl ServoscopeApp {
         self.debugger.advance(dt, slice);
         self.last_slice = sim_start.elapsed();
 
-        egui::Panel::top("menu").show(ui, |ui| {
+        // The window is cleared to the panels' colour (`clear_color`), so the panels paint no
+        // fill: without a GPU every filled pixel is shaded in software, and the central panel's
+        // fill alone was more than all the rest of a frame's drawing together.
+        let bar = egui::Frame::side_top_panel(ui.style()).fill(egui::Color32::TRANSPARENT);
+        let central = egui::Frame::central_panel(ui.style()).fill(egui::Color32::TRANSPARENT);
+        egui::Panel::top("menu").frame(bar).show(ui, |ui| {
             controls::menu_bar(ui, self, &mut commands);
             controls::toolbar(
                 ui,
@@ -1202,10 +1207,10 @@ impl ServoscopeApp {
                 &mut commands,
             );
         });
-        egui::Panel::bottom("status_bar").show(ui, |ui| {
+        egui::Panel::bottom("status_bar").frame(bar).show(ui, |ui| {
             status::status_bar(ui, &self.debugger);
         });
-        egui::CentralPanel::default().show(ui, |ui| {
+        egui::CentralPanel::default().frame(central).show(ui, |ui| {
             if let Some(notice) = self.notice.clone()
                 && status::notice_banner(ui, &notice)
             {
@@ -1416,6 +1421,11 @@ fn file_texts(debugger: &Debugger) -> Vec<String> {
 }
 
 impl eframe::App for ServoscopeApp {
+    /// The panels' own colour, so that they need not fill themselves (see `frame`).
+    fn clear_color(&self, visuals: &egui::Visuals) -> [f32; 4] {
+        visuals.panel_fill.to_normalized_gamma_f32()
+    }
+
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         self.frame(ui);
     }
@@ -1441,6 +1451,9 @@ pub fn run_gui(
             .with_inner_size([1280.0, 800.0])
             .with_min_inner_size([800.0, 500.0])
             .with_drag_and_drop(true),
+        // Dithering hides banding in gradients, of which the window has none; without a GPU it
+        // is shader work on every pixel of every frame.
+        dithering: false,
         ..Default::default()
     };
     eframe::run_native(
