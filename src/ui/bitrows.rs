@@ -57,7 +57,9 @@ fn line(ui: &mut egui::Ui, row: &BitRow, low: u8, high: u8, p: &Palette) {
     let point = row.point.filter(|&pt| pt > low && pt <= high);
     let size = vec2(row_width(count, point), CELL.y + 13.0);
     let (rect, response) = ui.allocate_exact_size(size, Sense::hover());
-    let painter = ui.painter_at(rect.expand(1.0));
+    // The panel's own painter: cells stay inside `rect` anyway, and a clip rectangle of their
+    // own would make each line a separate draw call (a buffer upload each without a GPU).
+    let painter = ui.painter();
     let font = egui::FontId::monospace(11.0);
     let small = egui::FontId::monospace(9.5);
     let x_of = |bit: u8| {

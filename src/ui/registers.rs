@@ -605,11 +605,13 @@ fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView, out: &
         .sense(Sense::click())
         .cell_layout(egui::Layout::left_to_right(egui::Align::Center))
         .column(Column::initial(64.0).at_least(48.0).resizable(true))
-        .column(Column::exact(name_width).clip(true))
+        // Names too long for the column are elided (the label truncates), not clipped: a
+        // clipped cell is a draw call of its own on every row.
+        .column(Column::exact(name_width).clip(false))
         .column(Column::initial(88.0).at_least(60.0).resizable(true));
     if show_binary {
         builder = builder
-            .column(Column::exact(120.0))
+            .column(Column::exact(120.0).clip(false))
             .column(Column::remainder().at_least(binary_width));
         titles.push("Binary");
     } else {
@@ -668,7 +670,7 @@ fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView, out: &
                         Some(name) => RichText::new(name),
                         None => RichText::new(space_title.unwrap_or("")).italics(),
                     };
-                    ui.label(text.size(11.5).color(p.dim));
+                    ui.add(egui::Label::new(text.size(11.5).color(p.dim)).truncate());
                 });
                 row.col(|ui| {
                     let mut shown = RichText::new(format.show(raw, info.width))
