@@ -5,6 +5,10 @@
 //! - A checkpoint (a clone of the machine) is kept every [`CHECKPOINT_EVERY`] ticks, at the
 //!   tick's start and *before* that position's events apply; going to a position restores the
 //!   checkpoint at or before it and re-executes at most that many ticks.
+//! - Checkpoints hold at most [`CHECKPOINT_BUDGET`] bytes: past it every other one goes and
+//!   the interval doubles, so a run left going for hours keeps its memory (a SilverLode run
+//!   unlimited made 18 000 checkpoints a second, 21 MB/s, without end) and going to a
+//!   position replays at most one interval, however long the run.
 //! - The state shown at a position includes the events of that position.
 //! - Editing at a position before the furthest one reached rewrites history: the checkpoints,
 //!   events, marks and trace after it are discarded.
@@ -15,6 +19,8 @@ use super::trace::{Channel, Trace};
 use crate::machine::{Loc, Machine, MachineView, Pos, Quiet, StopReason, WriteError, WriteSet};
 
 pub const CHECKPOINT_EVERY: u64 = 16_384;
+/// Bytes the checkpoints of a timeline hold at most (their machines' own estimate).
+pub const CHECKPOINT_BUDGET: usize = 256 << 20;
 /// Ticks a quiet stretch must reach for the timeline to keep asking for quiet ones at once.
 const QUIET_WORTH: u64 = 256;
 
@@ -174,11 +180,17 @@ pub struct Timeline<M: Machine> {
     pub machine: M,
     pub trace: Trace,
     channels: Vec<Channel>,
-    checkpoints: Vec<M>,
+    /// Boxed: thinning a quarter of a gigabyte of them moves pointers, not machines (it was a
+    /// frame of 170 ms on the worker's watch).
+    checkpoints: Vec<Box<M>>,
     /// For each checkpoint's stretch (up to the next one): the locations its instructions
     /// wrote, as a 256-bit Bloom set (exact for up to 256 locations of a space). "Who wrote
     /// this?" replays only the stretches whose set may hold the location.
     written: Vec<WriteSet>,
+    /// Ticks between checkpoints: [`CHECKPOINT_EVERY`], doubled each time the checkpoints
+    /// outgrow `checkpoint_budget`.
+    checkpoint_every: u64,
+    checkpoint_budget: usize,
     events: Vec<UserEvent>,
     /// Index of the first event not applied yet (all events at or before the current position
     /// are).
@@ -199,8 +211,10 @@ impl<M: Machine> Timeline<M> {
             machine: start.clone(),
             trace: Trace::new(channels.len()),
             channels,
-            checkpoints: vec![start],
+            checkpoints: vec![Box::new(start)],
             written: vec![WriteSet::default()],
+            checkpoint_every: CHECKPOINT_EVERY,
+            checkpoint_budget: CHECKPOINT_BUDGET,
             events,
             next_event: 0,
             furthest: Pos::default(),
@@ -238,10 +252,52 @@ impl<M: Machine> Timeline<M> {
 
     /// Bytes held by checkpoints, events and the trace.
     pub fn memory_bytes(&self) -> usize {
-        let checkpoint = std::mem::size_of::<M>() + 256;
-        self.checkpoints.len() * (checkpoint + std::mem::size_of::<WriteSet>())
+        self.checkpoint_bytes()
             + self.events.len() * std::mem::size_of::<UserEvent>()
             + self.trace.memory_bytes()
+    }
+
+    /// Bytes held by the checkpoints (with their write sets).
+    pub fn checkpoint_bytes(&self) -> usize {
+        let each = self.checkpoints[0].snapshot_bytes() + std::mem::size_of::<WriteSet>();
+        self.checkpoints.len() * each
+    }
+
+    /// Ticks between checkpoints now (see [`CHECKPOINT_BUDGET`]).
+    pub fn checkpoint_interval(&self) -> u64 {
+        self.checkpoint_every
+    }
+
+    /// Bound the checkpoints' memory by `bytes` instead of [`CHECKPOINT_BUDGET`] (tests, and
+    /// tools that keep many timelines); applies from the next checkpoint.
+    pub fn set_checkpoint_budget(&mut self, bytes: usize) {
+        self.checkpoint_budget = bytes;
+    }
+
+    /// Past the budget, every other checkpoint goes (the first, at the timeline's start,
+    /// stays) and the interval doubles until they fit; each dropped checkpoint's write set
+    /// joins the stretch before it, which now runs through its own.
+    fn thin_checkpoints(&mut self) {
+        // (A write set per checkpoint, as everywhere a run has come back: a missing one would
+        // read as "nothing written" once merged.)
+        if self.written.len() != self.checkpoints.len() {
+            return;
+        }
+        while self.checkpoints.len() > 2 && self.checkpoint_bytes() > self.checkpoint_budget {
+            let every = self.checkpoint_every.saturating_mul(2);
+            self.checkpoint_every = every;
+            let checkpoints = std::mem::take(&mut self.checkpoints);
+            let mut written = std::mem::take(&mut self.written).into_iter();
+            for (i, c) in checkpoints.into_iter().enumerate() {
+                let set = written.next().unwrap_or_default();
+                if i == 0 || c.ticks().is_multiple_of(every) {
+                    self.checkpoints.push(c);
+                    self.written.push(set);
+                } else if let Some(before) = self.written.last_mut() {
+                    before.union(set);
+                }
+            }
+        }
     }
 
     fn record_now(&mut self) {
@@ -254,6 +310,7 @@ impl<M: Machine> Timeline<M> {
     /// Run forward until `limit`, the end or a fault, or `stop` (asked before each instruction
     /// starts): applying events at their positions, recording the trace and checkpoints.
     pub fn forward<F: FnMut(&M) -> bool>(&mut self, limit: Pos, mut stop: F) -> StopReason {
+        let every = self.checkpoint_every;
         let Timeline {
             machine,
             trace,
@@ -309,10 +366,10 @@ impl<M: Machine> Timeline<M> {
                     held = None;
                 }
                 if why == Observed::Tick
-                    && t.is_multiple_of(CHECKPOINT_EVERY)
+                    && t.is_multiple_of(every)
                     && checkpoints.last().is_none_or(|c| c.ticks() < t)
                 {
-                    checkpoints.push(m.clone());
+                    checkpoints.push(Box::new(m.clone()));
                     new_stretch.set(true);
                 }
             },
@@ -326,6 +383,7 @@ impl<M: Machine> Timeline<M> {
         if !machine.run_state().is_live() && machine.pos() == *furthest {
             *stopped = true;
         }
+        self.thin_checkpoints();
         reason
     }
 
@@ -378,8 +436,8 @@ impl<M: Machine> Timeline<M> {
             if now >= limit || !self.machine.run_state().is_live() {
                 return self.forward(limit, &mut stop);
             }
-            let checkpoint_due =
-                Pos::at_tick((now.tick / CHECKPOINT_EVERY + 1).saturating_mul(CHECKPOINT_EVERY));
+            let every = self.checkpoint_every;
+            let checkpoint_due = Pos::at_tick((now.tick / every + 1).saturating_mul(every));
             let event_due = self.events.get(self.next_event).map(|e| e.at);
             let until = limit.min(checkpoint_due).min(event_due.unwrap_or(limit));
             // Right after a write of a data breakpoint's location (where an observed stretch
@@ -408,11 +466,12 @@ impl<M: Machine> Timeline<M> {
                 if reached == checkpoint_due
                     && self.checkpoints.last().is_none_or(|c| c.pos() < reached)
                 {
-                    self.checkpoints.push(self.machine.clone());
+                    self.checkpoints.push(Box::new(self.machine.clone()));
                     // The write that ends at a checkpoint belongs to the stretch it begins.
                     let mut set = WriteSet::default();
                     self.machine.note_writes(&mut set);
                     self.written.push(set);
+                    self.thin_checkpoints();
                 }
                 if reason != StopReason::TickLimit {
                     return reason;
@@ -518,7 +577,7 @@ impl<M: Machine> Timeline<M> {
     }
 
     fn restore(&mut self, checkpoint: usize) {
-        self.machine = self.checkpoints[checkpoint].clone();
+        self.machine = M::clone(&self.checkpoints[checkpoint]);
         let at = self.machine.pos();
         self.next_event = self.events.partition_point(|e| e.at < at);
         apply_due(&mut self.machine, &self.events, &mut self.next_event);
@@ -569,11 +628,11 @@ impl<M: Machine> Timeline<M> {
                 .saturating_sub(1);
             let start = self.checkpoints[i].pos();
             let at_end = match self.checkpoints.get(i + 1) {
-                Some(c) if c.pos() == end => Some(c),
+                Some(c) if c.pos() == end => Some(&**c),
                 _ if end == here.pos() => Some(&here),
                 _ => None,
             };
-            let no_boundary = at_end.is_some_and(|e| waits_throughout(&self.checkpoints[i], e));
+            let no_boundary = at_end.is_some_and(|e| waits_throughout(&*self.checkpoints[i], e));
             if !no_boundary {
                 let (found, ticks) = self.ask_stretch(i, search.before, end, &mut wanted);
                 spent = spent.saturating_add(ticks.max(1));
@@ -624,7 +683,7 @@ impl<M: Machine> Timeline<M> {
                 .checkpoints
                 .partition_point(|c| c.pos() <= before)
                 .saturating_sub(1);
-            if last > i && waits_throughout(m, &self.checkpoints[last]) {
+            if last > i && waits_throughout(m, &*self.checkpoints[last]) {
                 self.restore(last);
             }
             let resumed = self.machine.ticks();

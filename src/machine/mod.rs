@@ -604,6 +604,12 @@ pub fn value_of(m: &dyn MachineView, loc: Loc) -> i64 {
 /// A machine the debugger can run: the view plus the run loops, generic so that each dialect's
 /// hot loop is compiled for it (no dynamic dispatch per executed instruction).
 pub trait Machine: MachineView + Clone + PartialEq {
+    /// Bytes a clone of this machine holds, its vectors included: what a checkpoint of the
+    /// timeline costs (the program is shared, not copied).
+    fn snapshot_bytes(&self) -> usize {
+        std::mem::size_of_val(self)
+    }
+
     /// Run until the position reaches `limit`, the machine stops, or `stop` returns true.
     /// `stop` is asked before every instruction starts, never in the middle of one; `observe`
     /// is called after every completed tick (traces and checkpoints record through it).

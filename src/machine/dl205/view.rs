@@ -670,6 +670,31 @@ impl MachineView for Dl205 {
 }
 
 impl Machine for Dl205 {
+    fn snapshot_bytes(&self) -> usize {
+        use std::mem::size_of_val as bytes;
+        bytes(self)
+            + bytes(&self.v[..])
+            + bytes(&self.x[..])
+            + bytes(&self.x_image[..])
+            + bytes(&self.y[..])
+            + bytes(&self.c[..])
+            + bytes(&self.s[..])
+            + bytes(&self.t[..])
+            + bytes(&self.ct[..])
+            + bytes(&self.t_ms[..])
+            + bytes(&self.t_counted[..])
+            + bytes(&self.ct_in[..])
+            + bytes(&self.edges.0[..])
+            + bytes(&self.fired_this_scan[..])
+            + bytes(&self.orout_marks[..])
+            + bytes(&self.calls[..])
+            + bytes(&self.stage_marks[..])
+            + bytes(&self.stage_changes[..])
+            + bytes(&self.bstack[..])
+            + bytes(&self.power[..])
+            + bytes(&self.forces.0[..])
+    }
+
     fn run_observed<F: FnMut(&Self) -> bool, O: FnMut(&Self)>(
         &mut self,
         limit: Pos,

@@ -713,6 +713,27 @@ impl MachineView for OpenNet {
 }
 
 impl Machine for OpenNet {
+    fn snapshot_bytes(&self) -> usize {
+        use std::mem::size_of_val as bytes;
+        bytes(self)
+            + bytes(&self.d[..])
+            + bytes(&self.inputs[..])
+            + bytes(&self.input_image[..])
+            + bytes(&self.q[..])
+            + bytes(&self.m[..])
+            + bytes(&self.r[..])
+            + bytes(&self.blocks[..])
+            + bytes(&self.branches[..])
+            + bytes(&self.edges.0[..])
+            + bytes(&self.pulses.0[..])
+            + bytes(&self.edge_scans[..])
+            + bytes(&self.forces.0[..])
+            + bytes(&self.timers[..])
+            + bytes(&self.counters[..])
+            + bytes(&self.marks[..])
+            + bytes(&self.last_cycles[..])
+    }
+
     fn run_observed<F: FnMut(&Self) -> bool, O: FnMut(&Self)>(
         &mut self,
         limit: Pos,

@@ -528,6 +528,10 @@ impl MachineView for SilverLode {
 }
 
 impl Machine for SilverLode {
+    fn snapshot_bytes(&self) -> usize {
+        std::mem::size_of_val(self) + std::mem::size_of_val(&self.s.queue_bases[..])
+    }
+
     fn run_observed<F: FnMut(&Self) -> bool, O: FnMut(&Self)>(
         &mut self,
         limit: Pos,

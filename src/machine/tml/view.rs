@@ -620,6 +620,11 @@ impl MachineView for Tml {
 }
 
 impl Machine for Tml {
+    fn snapshot_bytes(&self) -> usize {
+        use std::mem::size_of_val as bytes;
+        bytes(self) + bytes(&self.vars[..]) + bytes(&self.stack[..])
+    }
+
     fn run_observed<F: FnMut(&Self) -> bool, O: FnMut(&Self)>(
         &mut self,
         limit: Pos,
