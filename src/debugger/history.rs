@@ -311,6 +311,7 @@ impl<M: Machine> Timeline<M> {
     /// starts): applying events at their positions, recording the trace and checkpoints.
     pub fn forward<F: FnMut(&M) -> bool>(&mut self, limit: Pos, mut stop: F) -> StopReason {
         let every = self.checkpoint_every;
+        let had = self.checkpoints.len();
         let Timeline {
             machine,
             trace,
@@ -383,7 +384,9 @@ impl<M: Machine> Timeline<M> {
         if !machine.run_state().is_live() && machine.pos() == *furthest {
             *stopped = true;
         }
-        self.thin_checkpoints();
+        if self.checkpoints.len() > had {
+            self.thin_checkpoints();
+        }
         reason
     }
 
