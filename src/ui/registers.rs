@@ -693,10 +693,15 @@ fn table(ui: &mut egui::Ui, debugger: &Debugger, view: &mut RegisterView, out: &
                     }
                 });
                 row.col(|ui| {
-                    ui.label(
-                        RichText::new(value::hex(raw, info.width))
-                            .monospace()
-                            .color(colour),
+                    // Elided like a name when wider than its column (a 48-bit PREG beside the
+                    // Binary column); hovering it shows it whole.
+                    ui.add(
+                        egui::Label::new(
+                            RichText::new(value::hex(raw, info.width))
+                                .monospace()
+                                .color(colour),
+                        )
+                        .truncate(),
                     );
                 });
                 if show_binary {
