@@ -44,25 +44,12 @@ fn the_window_is_cleared_to_the_panels_colour() {
 fn a_frame_mid_run_fills_less_than_a_third_of_the_window_for_every_example() {
     for (w, h) in [(900.0, 600.0), (1280.0, 800.0), (1920.0, 1080.0)] {
         let window = Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(w, h));
-        let mut harness = Harness::builder().with_size(window.size()).build_ui_state(
-            |ui, app: &mut ServoscopeApp| app.show(ui),
-            ServoscopeApp::new(Prefs::default()),
-        );
-        for (i, (dialect, name, _)) in registry::examples().enumerate() {
-            let ctx = harness.ctx.clone();
-            harness.state_mut().apply(&ctx, Command::LoadExample(i));
-            if harness.state().pending.is_some() {
-                harness.state_mut().apply(&ctx, Command::DiscardAndContinue);
-            }
-            // Mid-run, where the registers, the plot and the explanation all have something.
-            harness.state_mut().debugger.goto_tick(200);
-            harness.run_steps(3);
+        each_example_mid_run(window.size(), |name, harness| {
             let area = filled_area(&harness.output().shapes, window);
             let share = area / window.area();
             assert!(
                 share < 0.33,
-                "{w}×{h}, {} {name}: filled rectangles cover {:.0} % of the window",
-                dialect.name,
+                "{w}×{h}, {name}: filled rectangles cover {:.0} % of the window",
                 share * 100.0
             );
             // The panels are there all the same (the tiles, the menu, the status bar).
@@ -70,11 +57,12 @@ fn a_frame_mid_run_fills_less_than_a_third_of_the_window_for_every_example() {
                 harness.state().layout.pane_rects().len() >= 4,
                 "{name}: the layout shows its panes"
             );
-        }
+        });
     }
 }
 
-/// Loads each example in turn and gives its frame mid-run to `check`.
+/// Loads each example in turn and gives its frame mid-run (where the registers, the plot and
+/// the explanation all have something) to `check`.
 fn each_example_mid_run(
     size: egui::Vec2,
     mut check: impl FnMut(&str, &Harness<'_, ServoscopeApp>),
