@@ -8,8 +8,10 @@ mod common;
 
 use std::sync::Arc;
 
+use common::agree::{fast_is_full, quiet_is_observed};
 use common::channel_named;
 use proptest::prelude::*;
+use proptest::test_runner::TestCaseError;
 use servoscope::debugger::history::{Change, Timeline, UserEvent};
 use servoscope::debugger::trace::Channel;
 use servoscope::machine::silverlode::program::{ClcOp, ExtOp};
@@ -35,6 +37,18 @@ fn data() -> impl Strategy<Value = i32> {
 /// The queue every program sets up first: four slots at R40.
 const QUEUE: &str = "CLD Q_INIT, 11, 40, 4\n";
 
+/// A jump's condition, or none.
+fn condition() -> impl Strategy<Value = &'static str> {
+    prop::sample::select(vec![
+        "",
+        ", ZERO",
+        ", !ZERO",
+        ", NEGATIVE",
+        ", !POSITIVE",
+        ", IO1",
+    ])
+}
+
 /// One line of a program with `lines` lines (jump targets are line labels): every command
 /// the fast loop runs, and some it hands over.
 fn line(lines: usize) -> impl Strategy<Value = String> {
@@ -46,14 +60,7 @@ fn line(lines: usize) -> impl Strategy<Value = String> {
             .collect::<Vec<_>>(),
     );
     let clc = prop::sample::select(ClcOp::NAMES.to_vec());
-    let cond = prop::sample::select(vec![
-        "",
-        ", ZERO",
-        ", !ZERO",
-        ", NEGATIVE",
-        ", !POSITIVE",
-        ", IO1",
-    ]);
+    let cond = condition();
     let queue_op = prop::sample::select(vec![
         "Q_PUSH_HEAD",
         "Q_POP_HEAD",
@@ -146,6 +153,57 @@ fn events() -> impl Strategy<Value = Vec<UserEvent>> {
     })
 }
 
+/// `src` run to increasing ticks (`legs` apart) in the fast loop and by the full executor:
+/// the same reason to stop and the same machine after each leg.
+fn fast_and_full_agree(src: &str, legs: &[u64]) -> Result<(), TestCaseError> {
+    let legs: Vec<(u64, u32)> = legs.iter().map(|&ticks| (ticks, 0)).collect();
+    fast_is_full(machine(src), &legs).map_err(|e| TestCaseError::fail(format!("{e}\n{src}")))
+}
+
+/// `src` recorded through the quiet loop and tick by tick, to `ticks` in two legs (so the
+/// second begins where a quiet stretch may have ended): the same recording, last writes of
+/// `regs` and machine after going back.
+fn recordings_agree(
+    src: &str,
+    events: Vec<UserEvent>,
+    plotted: &[u32],
+    ticks: u64,
+    regs: &[u8],
+) -> Result<(), TestCaseError> {
+    let plotted: Vec<String> = plotted.iter().map(|r| format!("R{r}")).collect();
+    let plotted: Vec<&str> = plotted.iter().map(String::as_str).collect();
+    let written: Vec<String> = regs.iter().map(|r| format!("R{r}")).collect();
+    let written: Vec<&str> = written.iter().map(String::as_str).collect();
+    let legs = (Pos::at_tick(ticks / 3), Pos::at_tick(ticks));
+    quiet_is_observed(machine(src), events, &plotted, &written, legs)
+        .map_err(|e| TestCaseError::fail(format!("{e}\n{src}")))
+}
+
+/// Run to `ticks` with one data breakpoint on `r` and a line breakpoint on `line`, through the
+/// quiet loop and the observed path: the same stops, machine and trace.
+fn data_stops_agree(
+    src: &str,
+    breakpoint: servoscope::debugger::Breakpoint,
+    plotted: &[u32],
+    line: usize,
+    ticks: u64,
+) -> Result<(), TestCaseError> {
+    let start = machine(src);
+    let channels: Vec<Channel> = plotted.iter().map(|&r| channel(r)).collect();
+    let mut quiet = Timeline::new(start.clone(), Vec::new(), channels.clone());
+    let mut observed = Timeline::new(start, Vec::new(), channels);
+    let end = Pos::at_tick(ticks);
+    prop_assert_eq!(
+        data_stops(&mut quiet, true, &breakpoint, line, end),
+        data_stops(&mut observed, false, &breakpoint, line, end),
+        "{}",
+        src
+    );
+    prop_assert_eq!(&quiet.machine, &observed.machine);
+    prop_assert!(quiet.trace.samples().eq(observed.trace.samples()));
+    Ok(())
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(300))]
 
@@ -154,16 +212,15 @@ proptest! {
         src in program(),
         legs in prop::collection::vec(0u64..200, 1..30),
     ) {
-        let mut fast = machine(&src);
-        let mut full = fast.clone();
-        let mut tick = 0;
-        for leg in legs {
-            tick += leg;
-            let fast_reason = fast.run_bare(Pos::at_tick(tick));
-            let full_reason = full.run_observed(Pos::at_tick(tick), |_| false, |_| {});
-            prop_assert_eq!(fast_reason, full_reason);
-            prop_assert_eq!(&fast, &full, "{} at tick {}", src, tick);
-        }
+        fast_and_full_agree(&src, &legs)?;
+    }
+
+    #[test]
+    fn a_compiled_loop_leaves_the_machine_as_the_full_executor(
+        src in loop_program(),
+        legs in prop::collection::vec(0u64..5000, 1..12),
+    ) {
+        fast_and_full_agree(&src, &legs)?;
     }
 
     #[test]
@@ -173,32 +230,7 @@ proptest! {
         plotted in prop::collection::vec(prop::sample::select(vec![0u32, 1, 6, 21, 22]), 1..4),
         ticks in 1u64..40_000,
     ) {
-        let channels: Vec<Channel> = plotted.iter().map(|&r| channel(r)).collect();
-        let start = machine(&src);
-        let mut quiet = Timeline::new(start.clone(), events.clone(), channels.clone());
-        let mut observed = Timeline::new(start, events, channels);
-        // In two legs, so the second begins where a quiet stretch may have ended.
-        let first = Pos::at_tick(ticks / 3);
-        prop_assert_eq!(quiet.forward_unstopped(first), observed.forward(first, |_| false));
-        let end = Pos::at_tick(ticks);
-        prop_assert_eq!(quiet.forward_unstopped(end), observed.forward(end, |_| false));
-        prop_assert_eq!(&quiet.machine, &observed.machine);
-        prop_assert_eq!(quiet.furthest(), observed.furthest());
-        prop_assert!(quiet.trace.samples().eq(observed.trace.samples()), "{}", src);
-        prop_assert_eq!(quiet.trace.end_tick(), observed.trace.end_tick());
-        let furthest = quiet.furthest();
-        for at in [furthest, Pos::at_tick(furthest.tick / 2), Pos::at_tick(17_000)] {
-            for &r in REGS {
-                prop_assert_eq!(
-                    quiet.find_write_back(at, reg(u32::from(r))),
-                    observed.find_write_back(at, reg(u32::from(r))),
-                    "R{} before {:?}", r, at
-                );
-            }
-            quiet.goto(at);
-            observed.goto(at);
-            prop_assert_eq!(&quiet.machine, &observed.machine);
-        }
+        recordings_agree(&src, events, &plotted, ticks, REGS)?;
     }
 }
 
@@ -505,19 +537,8 @@ proptest! {
         line in 1usize..16,
         ticks in 1u64..20_000,
     ) {
-        let start = machine(&src);
         let breakpoint = servoscope::debugger::Breakpoint::data(format!("R{r}"), trigger);
-        let channels = vec![channel(0), channel(22)];
-        let mut quiet = Timeline::new(start.clone(), Vec::new(), channels.clone());
-        let mut observed = Timeline::new(start, Vec::new(), channels);
-        let end = Pos::at_tick(ticks);
-        prop_assert_eq!(
-            data_stops(&mut quiet, true, &breakpoint, line, end),
-            data_stops(&mut observed, false, &breakpoint, line, end),
-            "{}", src
-        );
-        prop_assert_eq!(&quiet.machine, &observed.machine);
-        prop_assert!(quiet.trace.samples().eq(observed.trace.samples()));
+        data_stops_agree(&src, breakpoint, &[0, 22], line, ticks)?;
     }
 }
 
@@ -560,4 +581,112 @@ fn every_register_only_command_has_a_fast_form() {
     );
     assert_eq!(fast, full);
     assert_eq!(fast.steps(), 50_000, "{:?}", fast.state().fault);
+}
+
+/// A command a compiled loop may hold (mostly), or any other (the loop then stays interpreted).
+fn loop_line() -> impl Strategy<Value = String> {
+    let r = || prop::sample::select(vec![6u8, 10, 20, 21, 22, 23, 25]);
+    let ext = prop::sample::select(vec![
+        "ADD",
+        "SUB",
+        "AND",
+        "OR",
+        "XOR",
+        "MULT_S",
+        "MULT_U",
+        "MULT_S64_SHR16",
+    ]);
+    let clc = prop::sample::select(vec![
+        "ADD", "SUB", "MULT_S", "MULT_U", "AND", "OR", "XOR", "COPY", "SAVE", "INC", "DEC",
+    ]);
+    prop_oneof![
+        4 => (ext.clone(), r(), r(), data()).prop_map(|(op, x, a, d)| format!("CLD {op}, {x}, {a}, {d}")),
+        4 => (ext, r(), r(), r()).prop_map(|(op, x, a, b)| format!("CLX {op}, {x}, {a}, {b}")),
+        6 => (clc, r()).prop_map(|(op, x)| format!("CLC {op}, {x}")),
+        1 => (r(), data()).prop_map(|(x, v)| format!("WRP {x}, {v}")),
+        1 => line(1),
+    ]
+}
+
+/// A loop (counted down in R25, or ending on a flag) between a start and a tail, round and
+/// round.
+fn loop_program() -> impl Strategy<Value = String> {
+    let cond = condition();
+    (
+        1i32..3000,
+        prop::collection::vec(loop_line(), 1..8),
+        any::<bool>(),
+        cond,
+        prop::collection::vec(loop_line(), 0..3),
+    )
+        .prop_map(|(count, body, counted, cond, tail)| {
+            let mut text = format!("{QUEUE}top: WRP 25, {count}\n");
+            text.push_str(&format!("l0: {}\n", body[0]));
+            body[1..]
+                .iter()
+                .for_each(|l| text.push_str(&format!("{l}\n")));
+            if counted {
+                text.push_str("CLC DEC, 25\nJMP l0, !ZERO\n");
+            } else {
+                text.push_str(&format!("JMP l0{cond}\n"));
+            }
+            tail.iter().for_each(|l| text.push_str(&format!("{l}\n")));
+            text.push_str("JMP top\n");
+            text
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    #[test]
+    fn a_quiet_recording_through_compiled_loops_is_the_observed_recording(
+        src in loop_program(),
+        plotted in prop::collection::vec(prop::sample::select(vec![0u32, 6, 21, 23]), 1..3),
+        ticks in 1u64..60_000,
+    ) {
+        recordings_agree(&src, Vec::new(), &plotted, ticks, &[10, 20, 21, 22, 25])?;
+    }
+
+    #[test]
+    fn breakpoints_stop_compiled_loops_where_they_stop_the_observed_run(
+        src in loop_program(),
+        r in prop::sample::select(vec![6u32, 20, 22, 23]),
+        line in 1usize..14,
+        ticks in 1u64..40_000,
+    ) {
+        let breakpoint = servoscope::debugger::Breakpoint::data(
+            format!("R{r}"),
+            servoscope::debugger::DataTrigger::Equal(7),
+        );
+        data_stops_agree(&src, breakpoint, &[0], line, ticks)?;
+    }
+}
+
+/// The vendor's calculation idiom runs compiled where the host has a code generator, and ends
+/// with the values its arithmetic gives (spec §3: MULT_S64_SHR16 keeps bits 16..47).
+#[test]
+fn the_idiom_loop_runs_compiled_and_right() {
+    let src = "WRP 20, 40000\nWRP 21, 7\nWRP 25, 1000\n\
+               loop: CLC COPY, 20\nCLC ADD, 21\nCLC SAVE, 20\n\
+               CLD MULT_S64_SHR16, 23, 20, q16(0.0254)\nCLX XOR, 24, 23, 20\n\
+               CLC DEC, 25\nJMP loop, !ZERO\nEND\n";
+    let mut m = machine(src);
+    m.run_bare(Pos::at_tick(1_000_000));
+    // Three WRPs, 1000 rounds of seven commands, END.
+    assert_eq!(m.steps(), 3 + 7_000 + 1);
+    let r20 = 40_000 + 7 * 1000;
+    let r23 = ((i64::from(r20) * 1665) >> 16) as i32;
+    assert_eq!(m.state().regs[20], r20);
+    assert_eq!(m.state().regs[23], r23);
+    assert_eq!(m.state().regs[24], r23 ^ r20);
+    assert_eq!(m.state().regs[25], 0);
+    let head = m.program().loops.at(3).expect("the loop is found");
+    assert_eq!((head.head, head.end), (3, 9));
+    if cfg!(all(
+        feature = "jit",
+        any(target_arch = "x86_64", target_arch = "aarch64")
+    )) {
+        assert!(head.is_compiled(), "the loop ran compiled");
+    }
 }

@@ -46,6 +46,7 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
         let flat = super::program::flatten(&asm.instrs);
         Ok(Program {
             flat_writes: super::program::flat_writes(&flat),
+            loops: super::jit::Loops::find(&flat),
             flat,
             instrs: asm.instrs,
             lines: asm.lines,

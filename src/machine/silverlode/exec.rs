@@ -743,6 +743,8 @@ impl SilverLode {
     /// end. Stops after `max` commands, before a command the full executor must run, and, when
     /// `STOPS`, before a command `stops` marks (but not the first when it was `asked`). With
     /// `SPAN`, widens `span` to the commands it may have run. Returns how many commands ran.
+    /// Where a jump lands on a loop of plain arithmetic ([`super::jit`]) with room for whole
+    /// rounds and nothing to stop before in them, the rounds run compiled.
     pub(super) fn run_plain<const STOPS: bool, const SPAN: bool>(
         &mut self,
         max: u64,
@@ -762,6 +764,26 @@ impl SilverLode {
         let mut last = s.last;
         let entry = pc;
         let mut n = 0u64;
+        // Where the loop starts or a jump lands on a loop's head, its whole rounds may run
+        // compiled (out of line: the arms stay as tight as without).
+        macro_rules! compiled_rounds {
+            () => {
+                if let Some(looped) = program.loops.at(pc) {
+                    let done = looped.run_rounds::<STOPS>(flat, regs, &mut isw, max - n, stops);
+                    if done > 0 {
+                        n += done;
+                        last = LastExec {
+                            pc: looped.end as u32,
+                            vals: [1, 0, 0, 0],
+                            outcome: Outcome::Done,
+                        };
+                        if SPAN {
+                            span.jump(looped.end, looped.head);
+                        }
+                    }
+                }
+            };
+        }
         // A command run through the executor's own arithmetic; one that would fault is left
         // to the full executor, untouched.
         macro_rules! effect {
@@ -780,6 +802,7 @@ impl SilverLode {
                 continue;
             }};
         }
+        compiled_rounds!();
         while n < max {
             let Some(&op) = flat.get(pc) else {
                 break;
@@ -962,6 +985,7 @@ impl SilverLode {
                     };
                     pc = target as usize;
                     n += 1;
+                    compiled_rounds!();
                     continue;
                 }
                 Op::JmpIf { target, bit, want } => {
@@ -978,8 +1002,13 @@ impl SilverLode {
                     if SPAN && taken {
                         span.jump(pc, target as usize);
                     }
-                    pc = if taken { target as usize } else { pc + 1 };
                     n += 1;
+                    if taken {
+                        pc = target as usize;
+                        compiled_rounds!();
+                    } else {
+                        pc += 1;
+                    }
                     continue;
                 }
                 Op::Full => break,

@@ -21,6 +21,7 @@ pub mod assembler;
 pub mod dialect;
 mod exec;
 mod explain;
+pub mod jit;
 pub mod motion;
 pub mod program;
 /// The one file of this folder that draws (egui), built only with the window.

@@ -271,6 +271,8 @@ pub struct Program {
     pub flat: Vec<Op>,
     /// Every register a command of `flat` other than `Full` may write.
     pub flat_writes: crate::machine::WriteSet,
+    /// The loops of `flat` the fast loop may run compiled.
+    pub loops: super::jit::Loops,
 }
 
 /// A command as the fast loop dispatches on it: one match, operands resolved. Every command
@@ -516,6 +518,7 @@ impl Program {
             constants: Vec::new(),
             flat: vec![Op::Full],
             flat_writes: crate::machine::WriteSet::default(),
+            loops: super::jit::Loops::default(),
         })
     }
 
