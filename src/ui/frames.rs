@@ -16,29 +16,6 @@ pub fn run_slice(overhead: Duration) -> Duration {
         .clamp(MIN_RUN_SLICE, MAX_RUN_SLICE)
 }
 
-/// Frames at a steady cadence while running unlimited: each frame is due [`TARGET_FRAME`] after
-/// the one before was due, not after it began, so a frame the scheduler wakes late (a busy
-/// machine) brings the next one sooner instead of pushing every later frame back by its delay.
-/// A frame more than a frame late starts the cadence afresh; one that comes early (an input
-/// event) leaves the due frame where it was.
-#[derive(Debug, Default)]
-pub struct FramePacer {
-    due: Option<Instant>,
-}
-
-impl FramePacer {
-    /// For a frame that began at `started`: how long from `now` until the next is due.
-    pub fn wait(&mut self, started: Instant, now: Instant) -> Duration {
-        let next = match self.due {
-            Some(due) if started < due => due,
-            Some(due) if started.duration_since(due) < TARGET_FRAME => due + TARGET_FRAME,
-            _ => started + TARGET_FRAME,
-        };
-        self.due = Some(next);
-        next.saturating_duration_since(now)
-    }
-}
-
 /// Frame-time measurement (`servoscope --frame-stats N FILE`): runs the program unlimited and
 /// reports the frame interval and the time spent in `ui`, median and worst, over N frames, and
 /// the simulation rate they achieved.
@@ -208,32 +185,6 @@ mod tests {
             let total = |c: ThreadCpu| c.window + c.simulation + c.others;
             assert!(total(second) > total(first), "{first:?} then {second:?}");
         }
-    }
-
-    #[test]
-    fn frames_keep_their_cadence_when_one_comes_late() {
-        let ms = Duration::from_millis;
-        let frame = TARGET_FRAME;
-        let t0 = Instant::now();
-        let mut pacer = FramePacer::default();
-        // The first frame takes 4 ms: the next is due a frame after it began.
-        assert_eq!(pacer.wait(t0, t0 + ms(4)), frame - ms(4));
-        // Woken 2 ms late: the next is due a frame after this one was due, 2 ms sooner.
-        let late = t0 + frame + ms(2);
-        assert_eq!(pacer.wait(late, late + ms(4)), frame - ms(6));
-        // An input event's frame before that leaves the due frame where it was.
-        let early = t0 + frame + ms(10);
-        assert_eq!(pacer.wait(early, early + ms(1)), frame - ms(11));
-        // Drawing overran the due time: no wait, and the next is a frame after the due one.
-        let due = t0 + frame * 2;
-        assert_eq!(pacer.wait(due + ms(1), due + frame + ms(1)), Duration::ZERO);
-        assert_eq!(
-            pacer.wait(due + frame + ms(1), due + frame + ms(2)),
-            frame - ms(2)
-        );
-        // More than a frame late (a stall, or a run started again): a fresh cadence.
-        let stalled = due + ms(100);
-        assert_eq!(pacer.wait(stalled, stalled + ms(3)), frame - ms(3));
     }
 
     #[test]
