@@ -690,3 +690,23 @@ fn the_idiom_loop_runs_compiled_and_right() {
         assert!(head.is_compiled(), "the loop ran compiled");
     }
 }
+
+/// Loops of plain arithmetic up to `MAX_LOOP` commands are compiled; a longer one, or one
+/// with a call in it, stays in the interpreter and runs as the full executor runs it.
+#[test]
+fn only_loops_of_plain_arithmetic_up_to_the_limit_are_compiled() {
+    use servoscope::machine::silverlode::jit::MAX_LOOP;
+    let long = |body: usize| format!("l0: {}JMP l0\n", "CLC INC, 20\n".repeat(body));
+    let found = |src: &str| assemble(src).expect("assembles").loops.at(0).is_some();
+    assert!(
+        found(&long(MAX_LOOP - 1)),
+        "{MAX_LOOP} commands with the jump"
+    );
+    assert!(!found(&long(MAX_LOOP)));
+    let with_call = "l0: CLC INC, 20\nCALL sub\nJMP l0\nsub: RET\n";
+    assert!(!found(with_call));
+    for src in [long(MAX_LOOP), with_call.to_string()] {
+        let legs = [40 * MAX_LOOP as u64, 7, 3 * MAX_LOOP as u64];
+        fast_and_full_agree(&src, &legs).expect("the fast loop is the full executor");
+    }
+}

@@ -769,7 +769,7 @@ impl SilverLode {
         macro_rules! compiled_rounds {
             () => {
                 if let Some(looped) = program.loops.at(pc) {
-                    let done = looped.run_rounds::<STOPS>(flat, regs, &mut isw, max - n, stops);
+                    let done = looped.run_rounds::<STOPS>(regs, &mut isw, max - n, stops);
                     if done > 0 {
                         n += done;
                         last = LastExec {
