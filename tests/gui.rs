@@ -1430,7 +1430,10 @@ fn a_session_with_a_breakpoint_past_the_end_opens_and_says_what_it_dropped() {
 #[test]
 fn a_long_search_back_says_so_in_the_status_bar_and_pause_cancels_it() {
     let mut h = harness(app_with("loop: CLC INC, 20\nJMP loop\n"));
-    let far = 10 * servoscope::debugger::BACK_TICKS_AT_ONCE;
+    // Far enough that the search is still going after the frames a click takes (kittest steps
+    // one frame per event: pointer move, press, release), also in a release build: at 10 times
+    // the ticks searched at once, it was over before the click landed.
+    let far = 400 * servoscope::debugger::BACK_TICKS_AT_ONCE;
     h.state_mut().debugger.goto_tick(far);
     for _ in 0..2_000 {
         h.step();
@@ -1438,6 +1441,7 @@ fn a_long_search_back_says_so_in_the_status_bar_and_pause_cancels_it() {
             break;
         }
     }
+    assert_eq!(h.state().debugger.pos().tick, far);
     h.state_mut()
         .debugger
         .add_breakpoint(servoscope::debugger::Breakpoint::line(1).with_condition("R20 < 0"));

@@ -50,7 +50,8 @@ fn a_run_on_the_worker_with_input_switches_is_the_straight_run() {
     let mut d = debugger(SHUTTLE);
     d.set_speed(Speed::Unlimited);
     let io1 = d.find("IO1").expect("IO1 exists");
-    let end = 400_000;
+    // Long enough to take a few frames in a release build too (400,000 ticks fitted in one).
+    let end = 4_000_000;
     d.goto_tick(end);
     assert!(d.is_running(), "going past the furthest tick runs there");
     let mut high = false;

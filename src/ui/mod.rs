@@ -36,7 +36,9 @@ use crate::machine::Pos;
 use crate::machine::registry::{self, Dialect, Settings};
 use crate::machine::{Format, Loc};
 use crate::session::{Session, SessionError, ViewSettings, is_session_path};
-pub use frames::{FrameStats, MAX_RUN_SLICE, MIN_RUN_SLICE, TARGET_FRAME, run_slice};
+pub use frames::{
+    FramePacer, FrameStats, MAX_LEAD, MAX_RUN_SLICE, MIN_RUN_SLICE, TARGET_FRAME, run_slice,
+};
 use panels::DialectPanel;
 
 /// What a user asked for, from a panel, the menu or a key.
@@ -244,6 +246,8 @@ pub struct ServoscopeApp {
     pub notice: Option<String>,
     title: String,
     last_frame: Option<Instant>,
+    /// When to ask for the next frame while running unlimited.
+    pacer: FramePacer,
     /// Smoothed frame time not spent simulating (drawing, presenting, waiting).
     overhead: Duration,
     last_slice: Duration,
@@ -314,6 +318,7 @@ impl ServoscopeApp {
             frame_stats: None,
             title: String::new(),
             last_frame: None,
+            pacer: FramePacer::default(),
             overhead: Duration::from_millis(8),
             last_slice: Duration::ZERO,
             theme_applied: None,
@@ -1378,7 +1383,8 @@ fn unsaved_prompt(ctx: &egui::Context, pending: Option<&Pending>, out: &mut Vec<
 
 impl ServoscopeApp {
     /// A frame of the window: [`ServoscopeApp::show`], then the run in progress goes to the
-    /// worker thread until the next frame, which comes a frame's time after this one began.
+    /// worker thread until the next frame, which comes a frame's time after this one began
+    /// ([`FramePacer`]).
     pub fn frame(&mut self, ui: &mut egui::Ui) {
         let started = Instant::now();
         self.show(ui);
@@ -1386,8 +1392,8 @@ impl ServoscopeApp {
         self.debugger.hand_off();
         if self.debugger.is_running() && self.debugger.speed() == crate::debugger::Speed::Unlimited
         {
-            ui.ctx()
-                .request_repaint_after(TARGET_FRAME.saturating_sub(started.elapsed()));
+            let wait = self.pacer.wait(started, Instant::now());
+            ui.ctx().request_repaint_after(wait);
         }
     }
 
