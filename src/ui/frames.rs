@@ -29,7 +29,7 @@ pub fn run_slice(overhead: Duration) -> Duration {
 /// 15 ms came every 15.2–18.2 ms (median; over 16 ms in about half the runs on a noisy host),
 /// with the lead every 14.4–14.9 ms, the simulation's rate the same within the noise; idle,
 /// 15.0 ms instead of 15.2–15.3. Aiming at a fixed 13.5 ms instead also kept frames under 16 ms
-/// but drew a tenth more frames on an idle machine, for 3–7 % less simulation. With a GPU, vsync
+/// but drew a tenth more frames on an idle machine, for up to 3–7 % less simulation. With a GPU, vsync
 /// paces frames anyway.
 #[derive(Debug, Default)]
 pub struct FramePacer {

@@ -1383,7 +1383,7 @@ fn unsaved_prompt(ctx: &egui::Context, pending: Option<&Pending>, out: &mut Vec<
 
 impl ServoscopeApp {
     /// A frame of the window: [`ServoscopeApp::show`], then the run in progress goes to the
-    /// worker thread until the next frame, which comes a frame's time after this one began
+    /// worker thread until the next frame, asked for so that frames come a frame's time apart
     /// ([`FramePacer`]).
     pub fn frame(&mut self, ui: &mut egui::Ui) {
         let started = Instant::now();
