@@ -50,7 +50,7 @@ fn ladder_harness(rungs: usize) -> Harness<'static, ServoscopeApp> {
         }
     }
     text += "END\n";
-    let dl205 = servoscope::machine::registry::by_name("dl205").expect("registered");
+    let dl205 = servoscope_core::registry::by_name("dl205").expect("registered");
     let mut app = ServoscopeApp::new(Prefs::default());
     app.load_program_as(dl205, "rungs.dl205", &text);
     app.debugger.goto_tick(3);

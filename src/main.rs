@@ -6,10 +6,10 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use servoscope::machine::diagnostics::printable;
-use servoscope::machine::registry::{self, Dialect, Settings};
-use servoscope::runner::{self, Report};
-use servoscope::session::{Recorded, Session, is_session_path};
+use servoscope_core::machine::diagnostics::printable;
+use servoscope_core::registry::{self, Dialect, Settings};
+use servoscope_core::runner::{self, Report};
+use servoscope_core::session::{Recorded, Session, is_session_path};
 
 #[derive(Parser)]
 #[command(
@@ -155,7 +155,6 @@ fn main() -> ExitCode {
     }
 }
 
-#[cfg(feature = "gui")]
 fn open_window(
     file: Option<PathBuf>,
     dialect: Option<String>,
@@ -180,21 +179,13 @@ fn open_window(
     }
 }
 
-#[cfg(not(feature = "gui"))]
-fn open_window(_: Option<PathBuf>, _: Option<String>, _: Option<usize>) -> ExitCode {
-    say(
-        "servoscope: this build has no window (built without the `gui` feature); use `servoscope run FILE`",
-    );
-    ExitCode::from(2)
-}
-
 /// What a run starts from: the program, its dialect and settings, and the recorded events.
 struct Start {
     dialect: &'static Dialect,
     name: String,
     path: Option<PathBuf>,
     /// The program's files, the top file first.
-    project: servoscope::machine::project::Project,
+    project: servoscope_core::machine::project::Project,
     settings: Settings,
     /// Session events by name (resolved once the program is assembled).
     session: Option<Session>,
@@ -293,7 +284,7 @@ fn run(args: &RunArgs) -> Result<u8, String> {
     let max_ticks = max_ticks.unwrap_or(start.dialect.default_max_ticks);
     let until = match break_when {
         Some(text) => Some(
-            servoscope::debugger::expr::Expr::compile(text, m)
+            servoscope_core::debugger::expr::Expr::compile(text, m)
                 .map_err(|e| format!("--break '{text}': {e}"))?,
         ),
         None => None,
@@ -345,7 +336,7 @@ fn run(args: &RunArgs) -> Result<u8, String> {
             session.save(out)
         };
         saved.map_err(|e| match e {
-            servoscope::session::SessionError::WouldReplace { .. } => {
+            servoscope_core::session::SessionError::WouldReplace { .. } => {
                 format!("{e}; pass --overwrite to replace it")
             }
             other => other.to_string(),
@@ -371,7 +362,7 @@ fn open_engine(
     start: &Start,
     settings: &Settings,
     name: &str,
-) -> Result<Box<dyn servoscope::debugger::Engine>, String> {
+) -> Result<Box<dyn servoscope_core::debugger::Engine>, String> {
     match start.dialect.open_program(&start.project, settings) {
         Ok(engine) => {
             for d in engine
@@ -412,7 +403,7 @@ fn ladder(args: &LadderArgs) -> Result<(), String> {
     let settings = start.dialect.settings_from(&settings);
     let engine = open_engine(&start, &settings, &name)?;
     let m = engine.machine();
-    if m.ladder().is_none() {
+    if !m.is_plc() {
         return Err(format!(
             "{name}: a {} program has no ladder diagram (DL205 and OpenNet programs have)",
             start.dialect.display_name
@@ -432,15 +423,15 @@ fn ladder(args: &LadderArgs) -> Result<(), String> {
     }
     let done = runner::run_engine(engine.as_ref(), &events, args.max_ticks.unwrap_or(0));
     let m = done.machine();
-    let diagram = servoscope::machine::plc::ladder::with_comments(
+    let diagram = servoscope_core::machine::plc::ladder::with_comments(
         m,
         start.project.top_text(),
         start.dialect.classify,
     )
     .ok_or_else(|| format!("{name}: no ladder diagram"))?;
     let title = format!("{} — after {} scan(s)", start.name, m.ticks());
-    let svg = servoscope::machine::plc::ladder::svg_of(m, &diagram, &title);
-    servoscope::atomic::write_atomically(&args.svg, |w| w.write_all(svg.as_bytes()))
+    let svg = servoscope_core::machine::plc::ladder::svg_of(m, &diagram, &title);
+    servoscope_core::atomic::write_atomically(&args.svg, |w| w.write_all(svg.as_bytes()))
         .map_err(|e| format!("cannot write {}: {e}", args.svg.display()))
 }
 
@@ -495,8 +486,8 @@ fn check(args: &CheckArgs) -> Result<u8, String> {
         project: Some(&start.project),
         broke: None,
     };
-    let outcomes = servoscope::lesson::evaluate_all(&lesson, done.machine());
-    let unit = if done.machine().ladder().is_some() {
+    let outcomes = servoscope_core::lesson::evaluate_all(&lesson, done.machine());
+    let unit = if done.machine().is_plc() {
         "scan(s)"
     } else {
         "tick(s)"
@@ -507,14 +498,14 @@ fn check(args: &CheckArgs) -> Result<u8, String> {
             "status": report.status(),
             "ticks": done.machine().ticks(),
         });
-        servoscope::lesson::report_json(&lesson.title, &outcomes, &run.to_string()) + "\n"
+        servoscope_core::lesson::report_json(&lesson.title, &outcomes, &run.to_string()) + "\n"
     } else {
         let run = format!(
             "{name}: {} after {} {unit}",
             report.status(),
             done.machine().ticks()
         );
-        servoscope::lesson::report_text(&lesson.title, &outcomes, &run)
+        servoscope_core::lesson::report_text(&lesson.title, &outcomes, &run)
     };
     let mut out = std::io::stdout().lock();
     match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {

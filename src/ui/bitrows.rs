@@ -4,8 +4,8 @@
 
 use egui::{Color32, RichText, Sense, Stroke, vec2};
 
-use crate::machine::bits::{BitRow, Breakdown};
 use crate::ui::theme::Palette;
+use servoscope_core::machine::bits::{BitRow, Breakdown};
 
 /// Width of one bit cell and the extra gap after every fourth bit.
 const CELL: egui::Vec2 = vec2(11.0, 16.0);

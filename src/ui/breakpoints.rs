@@ -7,8 +7,8 @@ use egui::RichText;
 
 use super::Command;
 use super::theme::palette;
-use crate::debugger::{BreakKind, Breakpoint, DataTrigger, Debugger};
-use crate::machine::{Loc, value};
+use servoscope_core::debugger::{BreakKind, Breakpoint, DataTrigger, Debugger};
+use servoscope_core::machine::{Loc, value};
 
 /// What the data-breakpoint form holds between frames.
 #[derive(Default)]
@@ -278,7 +278,7 @@ pub fn force_items(
 
 pub fn location_menu(
     ui: &mut egui::Ui,
-    m: &dyn crate::machine::MachineView,
+    m: &dyn servoscope_core::machine::MachineView,
     name: &str,
     loc: Loc,
     out: &mut Vec<Command>,

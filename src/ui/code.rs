@@ -6,10 +6,10 @@ use egui::{FontId, Id, Rect, RichText, Sense, Stroke, TextStyle, Vec2, pos2, vec
 
 use super::Command;
 use super::theme::{Palette, palette};
-use crate::debugger::Debugger;
-use crate::machine::Diagnostic;
-use crate::machine::project::{FILE_LINES, Project};
-use crate::machine::registry::TokenClass;
+use servoscope_core::debugger::Debugger;
+use servoscope_core::machine::Diagnostic;
+use servoscope_core::machine::project::{FILE_LINES, Project};
+use servoscope_core::registry::TokenClass;
 
 pub const TEXT_ID: &str = "program_text";
 
@@ -27,7 +27,7 @@ pub struct CodeView {
     /// asked for).
     pub pending_jump: Option<Jump>,
     /// The location named where the editor was right-clicked (its context menu).
-    pub menu_location: Option<(String, crate::machine::Loc)>,
+    pub menu_location: Option<(String, servoscope_core::machine::Loc)>,
     /// The caret as a character index into the text, from the last frame.
     pub cursor_char: Option<usize>,
     /// The find or go-to-line bar above the editor, when open.
@@ -156,7 +156,7 @@ fn token_at(text: &str, at: usize) -> String {
 
 /// What hovering a mnemonic tells: its reference entry's first paragraph (syntax, effect,
 /// flags), from the dialect's document.
-pub fn mnemonic_hover(dialect: &crate::machine::registry::Dialect, token: &str) -> Option<String> {
+pub fn mnemonic_hover(dialect: &servoscope_core::registry::Dialect, token: &str) -> Option<String> {
     let mnemonic = mnemonic_in(dialect, token)?;
     let entry = dialect.reference_entry(&mnemonic)?;
     Some(format!(
@@ -168,7 +168,7 @@ pub fn mnemonic_hover(dialect: &crate::machine::registry::Dialect, token: &str) 
 }
 
 /// `token` as one of `dialect`'s mnemonics: `ADD(W)` is ADD, `WAIT!` is WAIT, `loop:CLC` is CLC.
-pub fn mnemonic_in(dialect: &crate::machine::registry::Dialect, token: &str) -> Option<String> {
+pub fn mnemonic_in(dialect: &servoscope_core::registry::Dialect, token: &str) -> Option<String> {
     let token = token.rsplit(':').next().unwrap_or(token);
     let token = token.split('(').next().unwrap_or(token);
     let token = token.trim_end_matches([';', '!', ',']);
@@ -297,8 +297,8 @@ pub fn error_underlines(
             let x = |i: usize| rect.left() + row.x_offset(CharIndex(i));
             // A warning (the program still runs) in the highlight colour, not the error's.
             let colour = match d.severity {
-                crate::machine::Severity::Warning => warning,
-                crate::machine::Severity::Error => color,
+                servoscope_core::machine::Severity::Warning => warning,
+                servoscope_core::machine::Severity::Error => color,
             };
             Some(egui::Shape::line_segment(
                 [pos2(x(start), y), pos2(x(end), y)],
@@ -409,9 +409,9 @@ fn word_at(text: &str, index: usize) -> Option<String> {
 
 /// What hovering `word` in the code tells: a location's value in every format, or what a
 /// `q16(…)`/`bcd(…)` literal stores.
-pub fn hover_value(m: &dyn crate::machine::MachineView, word: &str) -> Option<String> {
-    use crate::machine::Format;
-    use crate::machine::value::parse_value;
+pub fn hover_value(m: &dyn servoscope_core::machine::MachineView, word: &str) -> Option<String> {
+    use servoscope_core::machine::Format;
+    use servoscope_core::machine::value::parse_value;
     let loc = m.find(word).or_else(|| {
         m.program_names()
             .iter()
@@ -464,7 +464,8 @@ pub fn hover_value(m: &dyn crate::machine::MachineView, word: &str) -> Option<St
     }
     let lower = word.to_ascii_lowercase();
     // A Q16.16 literal, or a TML fixed literal (digits, a point, digits): what it really stores.
-    let fixed_literal = (m.dialect() == "tml"
+    let fixed_literal = (servoscope_core::registry::by_name(m.dialect())
+        .is_some_and(|d| d.decimal_literals_are_fixed)
         && word.contains('.')
         && word.chars().all(|c| c.is_ascii_digit() || c == '.'))
     .then_some(word);
@@ -473,7 +474,7 @@ pub fn hover_value(m: &dyn crate::machine::MachineView, word: &str) -> Option<St
         .and_then(|r| r.strip_suffix(')'))
         .map(|inner| &word[4..4 + inner.len()]);
     if let Some(typed) = q16_inner.or(fixed_literal)
-        && let Ok(q) = crate::machine::value::quantize_q16(typed)
+        && let Ok(q) = servoscope_core::machine::value::quantize_q16(typed)
     {
         let raw = q.raw as u64 & 0xFFFF_FFFF;
         let mut lines = vec![
@@ -535,7 +536,9 @@ fn included_file(debugger: &Debugger, file: usize, line: &str) -> Option<usize> 
     let path = includes(line).into_iter().next()?;
     let project = debugger.project();
     let includer = project.files.get(file)?.name.as_str();
-    project.index_of(&crate::machine::project::resolve_include(includer, &path))
+    project.index_of(&servoscope_core::machine::project::resolve_include(
+        includer, &path,
+    ))
 }
 
 /// One tab per file, the top file first; the one holding the line about to run is marked.
@@ -797,14 +800,16 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                 let rows = LineRows::of(&output.galley, output.galley_pos, text_left);
                 // Outputs skipped on an unpowered rung are greyed over.
                 // Code the scan did not run at all (jumped over, an inactive stage) more so.
-                let power: Vec<(usize, crate::machine::LinePower)> = machine
-                    .line_power()
+                let power: Vec<(usize, servoscope_core::machine::LinePower)> = machine
+                    .as_plc()
+                    .map(|plc| plc.line_power())
+                    .unwrap_or_default()
                     .into_iter()
                     .filter_map(|(l, s)| Some((to_local(l)?, s)))
                     .collect();
                 let skipped: Vec<(Option<usize>, egui::Color32)> = power
                     .iter()
-                    .filter(|(_, s)| *s == crate::machine::LinePower::Skipped)
+                    .filter(|(_, s)| *s == servoscope_core::machine::LinePower::Skipped)
                     .map(|(l, _)| (Some(*l), p.dim.gamma_multiply(0.25)))
                     .collect();
                 // Code the scan did not run at all (jumped over, an inactive stage): its text
@@ -815,10 +820,10 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                 let veils: Vec<egui::Shape> = power
                     .iter()
                     .filter_map(|(l, s)| match s {
-                        crate::machine::LinePower::NotRun => {
+                        servoscope_core::machine::LinePower::NotRun => {
                             Some((l, background.gamma_multiply(0.6)))
                         }
-                        crate::machine::LinePower::MasterOff => {
+                        servoscope_core::machine::LinePower::MasterOff => {
                             Some((l, background.gamma_multiply(0.45)))
                         }
                         _ => None,
@@ -1188,7 +1193,7 @@ struct GutterView<'a> {
     /// The program line before the file's first (its lines are `base + 1 ..`).
     base: usize,
     diagnostics: &'a [Diagnostic],
-    power: &'a [(usize, crate::machine::LinePower)],
+    power: &'a [(usize, servoscope_core::machine::LinePower)],
     /// Program lines and the address of the statement starting each (when shown).
     addresses: &'a [(usize, u32)],
 }
@@ -1212,7 +1217,7 @@ fn gutter_ui(
         gv.diagnostics
             .iter()
             .filter(|d| d.line == line)
-            .all(|d| d.severity == crate::machine::Severity::Warning)
+            .all(|d| d.severity == servoscope_core::machine::Severity::Warning)
     };
     let power = gv.power;
     // Per line: whether any breakpoint is on it, any enabled, and any with more than a line.
@@ -1254,13 +1259,13 @@ fn gutter_ui(
         response.context_menu(|ui| {
             if ui.button("Add a conditional breakpoint").clicked() {
                 out.push(Command::AddBreakpoint(
-                    crate::debugger::Breakpoint::line(base + line).with_condition("1"),
+                    servoscope_core::debugger::Breakpoint::line(base + line).with_condition("1"),
                 ));
                 ui.close();
             }
             if ui.button("Add a log point").clicked() {
                 out.push(Command::AddBreakpoint(
-                    crate::debugger::Breakpoint::line(base + line)
+                    servoscope_core::debugger::Breakpoint::line(base + line)
                         .with_log(format!("line {}", debugger.describe_line(base + line))),
                 ));
                 ui.close();
@@ -1315,11 +1320,11 @@ fn gutter_ui(
         // Rung power after this line's instruction (ladder dialects): a bar at the gutter's edge.
         if let Some((_, state)) = power.iter().find(|(l, _)| *l == line) {
             let colour = match state {
-                crate::machine::LinePower::On => p.bit_on,
-                crate::machine::LinePower::Off
-                | crate::machine::LinePower::Skipped
-                | crate::machine::LinePower::MasterOff => p.dim,
-                crate::machine::LinePower::NotRun => egui::Color32::TRANSPARENT,
+                servoscope_core::machine::LinePower::On => p.bit_on,
+                servoscope_core::machine::LinePower::Off
+                | servoscope_core::machine::LinePower::Skipped
+                | servoscope_core::machine::LinePower::MasterOff => p.dim,
+                servoscope_core::machine::LinePower::NotRun => egui::Color32::TRANSPARENT,
             };
             let bar = Rect::from_min_max(
                 pos2(row.right() - 3.0, row.top() + 2.0),
@@ -1396,13 +1401,13 @@ fn problems(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView) {
                 .auto_shrink([false, true])
                 .show_rows(ui, row_height, diagnostics.len(), |ui, rows| {
                     for d in &diagnostics[rows] {
-                        let warning = d.severity == crate::machine::Severity::Warning;
+                        let warning = d.severity == servoscope_core::machine::Severity::Warning;
                         let text = format!(
                             "{}:{}  {}{}",
                             debugger.describe_line(d.line),
                             d.col,
                             if warning { "warning: " } else { "" },
-                            crate::machine::diagnostics::printable(&d.message)
+                            servoscope_core::machine::diagnostics::printable(&d.message)
                         );
                         let r = ui.add(
                             egui::Button::selectable(
@@ -1434,7 +1439,7 @@ mod tests {
     #[test]
     fn highlight_keeps_the_text_exactly() {
         let text = "WRP 11, 1\r\n\nbad: BOGUS ; x\nü\n";
-        let classify = crate::machine::silverlode::syntax::classify;
+        let classify = servoscope_core::machine::silverlode::syntax::classify;
         let job = highlight(text, classify, &palette(true), &FontId::monospace(12.0));
         assert_eq!(job.text, text);
     }
@@ -1445,7 +1450,7 @@ mod tests {
     fn error_underlines_stay_inside_their_row() {
         let text = "WRP 11, 1\n\nbad: BOGUS ; x\nEND\n";
         let diags = vec![Diagnostic::error(3, 6, 5, "unknown")];
-        let classify = crate::machine::silverlode::syntax::classify;
+        let classify = servoscope_core::machine::silverlode::syntax::classify;
         let ctx = egui::Context::default();
         let mut shapes = Vec::new();
         let mut rows = Vec::new();

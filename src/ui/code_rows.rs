@@ -10,8 +10,8 @@ use egui::{Id, Rect, RichText, Sense, Stroke, TextStyle, Vec2, pos2, vec2};
 use super::Command;
 use super::code::{CodeView, append_line, error_underlines};
 use super::theme::palette;
-use crate::debugger::Debugger;
-use crate::machine::Diagnostic;
+use servoscope_core::debugger::Debugger;
+use servoscope_core::machine::Diagnostic;
 
 /// Where each line starts in the program text, rebuilt only when the text changes.
 #[derive(Default)]
@@ -155,7 +155,7 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                     p.dim
                 } else if errors
                     .iter()
-                    .all(|d| d.severity == crate::machine::Severity::Warning)
+                    .all(|d| d.severity == servoscope_core::machine::Severity::Warning)
                 {
                     p.written
                 } else {

@@ -5,9 +5,9 @@ use egui::{Key, KeyboardShortcut, Modifiers, RichText};
 use super::code::CodeView;
 use super::layout::Pane;
 use super::{Command, ServoscopeApp};
-use crate::debugger::{Debugger, Speed};
-use crate::machine::registry::{self, DIALECTS};
-use crate::machine::{Loc, MachineView, SpaceKind};
+use servoscope_core::debugger::{Debugger, Speed};
+use servoscope_core::machine::{Loc, MachineView, SpaceKind};
+use servoscope_core::registry::{self, DIALECTS};
 
 pub const RUN: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F5);
 pub const PAUSE: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F6);
@@ -87,7 +87,8 @@ fn has_steps(i: usize) -> bool {
         .get_or_init(|| {
             registry::lessons()
                 .map(|(_, name, text)| {
-                    crate::session::Session::from_ron(text, name).is_ok_and(|s| s.lesson.is_some())
+                    servoscope_core::session::Session::from_ron(text, name)
+                        .is_ok_and(|s| s.lesson.is_some())
                 })
                 .collect()
         })
@@ -140,7 +141,7 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
             if ui.button("Save program as…").clicked() {
                 out.push(Command::SaveProgramDialog);
             }
-            if app.debugger.machine().ladder().is_some()
+            if app.debugger.machine().is_plc()
                 && ui
                     .button("Export ladder…")
                     .on_hover_text("The ladder diagram with its power flow now, as SVG")

@@ -344,7 +344,7 @@ pub fn dropped_files(ctx: &egui::Context, out: &mut Vec<Command>) {
 
 /// Every dialect's program extensions, and `ron` for sessions.
 pub fn openable_extensions() -> Vec<&'static str> {
-    crate::machine::registry::DIALECTS
+    servoscope_core::registry::DIALECTS
         .iter()
         .flat_map(|d| d.extensions.iter().copied())
         .chain(["ron"])

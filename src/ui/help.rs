@@ -5,8 +5,8 @@
 use egui::RichText;
 use egui_commonmark::{CommonMarkCache, CommonMarkViewer};
 
-use crate::debugger::Debugger;
-use crate::machine::reference;
+use servoscope_core::debugger::Debugger;
+use servoscope_core::machine::reference;
 
 pub const TITLE: &str = "Help";
 

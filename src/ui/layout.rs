@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 
 use super::panels::DialectPanel;
 use super::{Command, breakpoints, code, log, plot, registers, timeline, watches};
-use crate::debugger::Debugger;
+use servoscope_core::debugger::Debugger;
 
 /// One panel of the window.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -93,9 +93,9 @@ pub fn panes_before_debugger_panels() -> Vec<String> {
 }
 
 /// Dialect panels that open beside the Program panel rather than beside the plot.
-const BESIDE_PROGRAM: [&str; 1] = [super::ladder::TITLE];
+const BESIDE_PROGRAM: [&str; 1] = [super::dialects::plc::ladder::TITLE];
 /// Dialect panels that open as the front tab of the Bits stack (a PLC's I/O board is its bits).
-const WITH_BITS: [&str; 1] = [super::io_board::TITLE];
+const WITH_BITS: [&str; 1] = [super::dialects::plc::io_board::TITLE];
 
 /// Below this no tile can be dragged smaller.
 const MIN_TILE: f32 = 40.0;

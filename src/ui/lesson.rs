@@ -7,10 +7,10 @@ use egui::RichText;
 use egui_commonmark::{CommonMarkCache, CommonMarkViewer};
 
 use super::Command;
-use crate::debugger::Debugger;
-use crate::lesson::{CheckOutcome, Lesson, LessonStep};
-use crate::machine::Pos;
-use crate::session::Session;
+use servoscope_core::debugger::Debugger;
+use servoscope_core::lesson::{CheckOutcome, Lesson, LessonStep};
+use servoscope_core::machine::Pos;
+use servoscope_core::session::Session;
 
 pub const TITLE: &str = "Lesson";
 
@@ -48,7 +48,7 @@ impl LessonView {
             .map(|s| {
                 s.checks
                     .iter()
-                    .map(|c| crate::lesson::evaluate(self.step + 1, c, m))
+                    .map(|c| servoscope_core::lesson::evaluate(self.step + 1, c, m))
                     .collect()
             })
             .unwrap_or_default();
@@ -156,7 +156,7 @@ fn results(ui: &mut egui::Ui, debugger: &Debugger, view: &LessonView) {
         summary.push_str(" — the position has changed since: Check again");
     }
     ui.label(RichText::new(summary).strong());
-    if *at == crate::machine::Pos::default() {
+    if *at == servoscope_core::machine::Pos::default() {
         ui.label(
             RichText::new(
                 "Nothing has run yet: run the program (F5) or step it, then Check again. \
@@ -213,7 +213,10 @@ fn edit(ui: &mut egui::Ui, debugger: &Debugger, view: &mut LessonView) {
                     );
                 }
                 if let Some(ticks) = &mut view.lesson.max_ticks {
-                    ui.add(egui::DragValue::new(ticks).range(1..=crate::session::MAX_REPLAY_TICKS));
+                    ui.add(
+                        egui::DragValue::new(ticks)
+                            .range(1..=servoscope_core::session::MAX_REPLAY_TICKS),
+                    );
                 }
             });
             ui.horizontal(|ui| {
@@ -258,7 +261,7 @@ fn edit(ui: &mut egui::Ui, debugger: &Debugger, view: &mut LessonView) {
                     }
                 });
                 if let Some(e) = (!check.trim().is_empty())
-                    .then(|| crate::debugger::expr::Expr::compile(check, m).err())
+                    .then(|| servoscope_core::debugger::expr::Expr::compile(check, m).err())
                     .flatten()
                 {
                     ui.colored_label(ui.visuals().error_fg_color, e.to_string());
@@ -274,7 +277,7 @@ fn edit(ui: &mut egui::Ui, debugger: &Debugger, view: &mut LessonView) {
                 let offers: Vec<String> = debugger
                     .watches()
                     .iter()
-                    .filter_map(|w| crate::lesson::check_from_watch(&w.expr, m))
+                    .filter_map(|w| servoscope_core::lesson::check_from_watch(&w.expr, m))
                     .filter(|c| !step.checks.contains(c))
                     .collect();
                 for offer in offers {

@@ -6,8 +6,8 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc::{Receiver, TryRecvError};
 
-use crate::debugger::Debugger;
-use crate::session::{Session, SessionError};
+use servoscope_core::debugger::Debugger;
+use servoscope_core::session::{Session, SessionError};
 
 /// Sessions that replay at most this many ticks open at once (well under a frame's worth of
 /// waiting is not guaranteed, but under a tenth of a second in a release build); longer ones

@@ -10,9 +10,9 @@ use egui::RichText;
 
 use super::Command;
 use super::theme::palette;
-use crate::debugger::Debugger;
-use crate::debugger::log::{ExecutionLog, LogFilter, LogSearch};
-use crate::machine::Pos;
+use servoscope_core::debugger::Debugger;
+use servoscope_core::debugger::log::{ExecutionLog, LogFilter, LogSearch};
+use servoscope_core::machine::Pos;
 
 /// Entries shown at most.
 pub const MAX_ROWS: usize = 500;
@@ -42,7 +42,7 @@ pub struct LogView {
 
 /// A line as a user types it: `12`, or `setup.tml:12` in a program of several files.
 fn parse_line(debugger: &Debugger, text: &str) -> Option<usize> {
-    use crate::machine::project::Project;
+    use servoscope_core::machine::project::Project;
     match text.rsplit_once(':') {
         Some((file, line)) => {
             let file = debugger.project().index_of(file.trim())?;
@@ -133,7 +133,7 @@ impl LogView {
     pub fn write_csv(
         &self,
         w: &mut dyn std::io::Write,
-        project: &crate::machine::project::Project,
+        project: &servoscope_core::machine::project::Project,
     ) -> std::io::Result<()> {
         writeln!(w, "tick,step,instruction,line,explanation,written")?;
         for r in &self.log.rows {

@@ -7,11 +7,10 @@ pub mod breakpoints;
 pub mod code;
 pub mod code_rows;
 pub mod controls;
+pub mod dialects;
 pub mod files;
 pub mod frames;
 pub mod help;
-pub mod io_board;
-pub mod ladder;
 pub mod layout;
 pub mod lesson;
 pub mod loading;
@@ -31,15 +30,15 @@ use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
 
-use crate::debugger::{Breakpoint, ChannelChoice, Debugger, Speed, Watch};
-use crate::machine::Pos;
-use crate::machine::registry::{self, Dialect, Settings};
-use crate::machine::{Format, Loc};
-use crate::session::{Session, SessionError, ViewSettings, is_session_path};
 pub use frames::{
     FramePacer, FrameStats, MAX_LEAD, MAX_RUN_SLICE, MIN_RUN_SLICE, TARGET_FRAME, run_slice,
 };
 use panels::DialectPanel;
+use servoscope_core::debugger::{Breakpoint, ChannelChoice, Debugger, Speed, Watch};
+use servoscope_core::machine::Pos;
+use servoscope_core::machine::{Format, Loc};
+use servoscope_core::registry::{self, Dialect, Settings};
+use servoscope_core::session::{Session, SessionError, ViewSettings, is_session_path};
 
 /// What a user asked for, from a panel, the menu or a key.
 #[derive(Clone, Debug, PartialEq)]
@@ -224,7 +223,7 @@ pub struct ServoscopeApp {
     /// The open lesson, if the session is one.
     pub lesson: Option<lesson::LessonView>,
     /// The lesson as last saved or loaded: differences are unsaved changes.
-    saved_lesson: Option<crate::lesson::Lesson>,
+    saved_lesson: Option<servoscope_core::lesson::Lesson>,
     pub help: help::HelpView,
     pub layout: layout::Layout,
     /// The current dialect's own panels, and the dialect they were made for.
@@ -268,10 +267,10 @@ impl ServoscopeApp {
         debugger.set_speed(prefs.speed);
         // Leftovers of saves killed last time, in the folders the user works in.
         for folder in prefs.recent.iter().filter_map(|p| p.parent()) {
-            crate::atomic::remove_stale_temporaries(folder);
+            servoscope_core::atomic::remove_stale_temporaries(folder);
         }
         let registers = registers::RegisterView::new(&prefs);
-        let panels = (dialect.panels)();
+        let panels = dialects::panels(dialect);
         let titles: Vec<&str> = panels.iter().map(|p| p.title()).collect();
         let mut layout = prefs
             .layout
@@ -378,7 +377,7 @@ impl ServoscopeApp {
     fn sync_panels(&mut self) {
         let dialect = self.debugger.dialect();
         if self.panels_for != dialect.name {
-            self.panels = (dialect.panels)();
+            self.panels = dialects::panels(dialect);
             self.panels_for = dialect.name;
             self.registers.dialect = dialect.name;
             let titles: Vec<&str> = self.panels.iter().map(|p| p.title()).collect();
@@ -488,9 +487,11 @@ impl ServoscopeApp {
     fn export_ladder(&mut self, path: &std::path::Path) {
         let d = &self.debugger;
         let m = d.machine();
-        let Some(diagram) =
-            crate::machine::plc::ladder::with_comments(m, d.source(), d.dialect().classify)
-        else {
+        let Some(diagram) = servoscope_core::machine::plc::ladder::with_comments(
+            m,
+            d.source(),
+            d.dialect().classify,
+        ) else {
             self.notice = Some("This program has no ladder diagram".to_string());
             return;
         };
@@ -500,8 +501,8 @@ impl ServoscopeApp {
         } else {
             format!("{} — scan {}, instruction {}", d.name(), at.tick, at.step)
         };
-        let svg = crate::machine::plc::ladder::svg_of(m, &diagram, &title);
-        match crate::atomic::write_atomically(path, |w| w.write_all(svg.as_bytes())) {
+        let svg = servoscope_core::machine::plc::ladder::svg_of(m, &diagram, &title);
+        match servoscope_core::atomic::write_atomically(path, |w| w.write_all(svg.as_bytes())) {
             Ok(()) => {
                 self.files.export_ladder.close();
                 self.notice = Some(format!(
@@ -681,7 +682,7 @@ impl ServoscopeApp {
             .map(|s| {
                 s.events
                     .iter()
-                    .map(|e| crate::debugger::ScriptedEvent {
+                    .map(|e| servoscope_core::debugger::ScriptedEvent {
                         at: e.at,
                         location: e.location.clone(),
                         change: e.change,
@@ -789,9 +790,9 @@ impl ServoscopeApp {
             if let Some(folder) = target.parent() {
                 let _ = std::fs::create_dir_all(folder);
             }
-            if let Err(e) =
-                crate::atomic::write_atomically(&target, |w| w.write_all(f.text.as_bytes()))
-            {
+            if let Err(e) = servoscope_core::atomic::write_atomically(&target, |w| {
+                w.write_all(f.text.as_bytes())
+            }) {
                 self.file_failed(
                     files::Purpose::SaveProgram,
                     format!("Cannot write {}: {e}", target.display()),
@@ -1079,16 +1080,16 @@ impl ServoscopeApp {
                         .map_or(name.to_string(), |s| s.to_string_lossy().replace('_', " "));
                     let start = self.session();
                     let mut view = lesson::LessonView::new(
-                        crate::lesson::Lesson {
+                        servoscope_core::lesson::Lesson {
                             title,
-                            steps: vec![crate::lesson::LessonStep {
+                            steps: vec![servoscope_core::lesson::LessonStep {
                                 text: "# The task\n\nWrite here what the student should do."
                                     .to_string(),
                                 checks: Vec::new(),
                             }],
                             // A PLC is graded after as many scans as the teacher ran (the
                             // runner's default is one scan); other programs run to their end.
-                            max_ticks: (self.debugger.machine().ladder().is_some()
+                            max_ticks: (self.debugger.machine().is_plc()
                                 && self.debugger.pos().tick > 1)
                                 .then(|| self.debugger.pos().tick),
                         },
@@ -1102,7 +1103,7 @@ impl ServoscopeApp {
             Command::ExportLogDialog => self.files.export_log.start(ctx),
             Command::ExportLog(path) => {
                 let rows = self.log.log.rows.len();
-                match crate::atomic::write_atomically(&path, |w| {
+                match servoscope_core::atomic::write_atomically(&path, |w| {
                     self.log.write_csv(w, self.debugger.project())
                 }) {
                     Ok(()) => {
@@ -1125,7 +1126,7 @@ impl ServoscopeApp {
     }
 
     /// A refused edit is said in the notice banner; nothing changed.
-    fn report(&mut self, result: Result<(), crate::debugger::EditError>) {
+    fn report(&mut self, result: Result<(), servoscope_core::debugger::EditError>) {
         if let Err(e) = result {
             self.notice = Some(format!("Not changed: {e}"));
         }
@@ -1302,7 +1303,7 @@ impl ServoscopeApp {
             self.title = title;
         }
         let paced = self.debugger.is_running()
-            && self.debugger.speed() == crate::debugger::Speed::Unlimited;
+            && self.debugger.speed() == servoscope_core::debugger::Speed::Unlimited;
         if (self.debugger.is_running() && !paced) || self.files.is_waiting() {
             ctx.request_repaint();
         }
@@ -1390,7 +1391,8 @@ impl ServoscopeApp {
         self.show(ui);
         self.record_frame_stats(ui.ctx(), started);
         self.debugger.hand_off();
-        if self.debugger.is_running() && self.debugger.speed() == crate::debugger::Speed::Unlimited
+        if self.debugger.is_running()
+            && self.debugger.speed() == servoscope_core::debugger::Speed::Unlimited
         {
             let wait = self.pacer.wait(started, Instant::now());
             ui.ctx().request_repaint_after(wait);

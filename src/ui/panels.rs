@@ -1,9 +1,9 @@
 //! A dialect's own panels (SilverLode's queue rings; later DL205's accumulator stack, TML's
 //! product register): a small trait, implemented in the dialect's folder and registered in its
-//! [`crate::machine::registry::Dialect`] entry. A panel appears only for its dialect.
+//! [`servoscope_core::registry::Dialect`] entry. A panel appears only for its dialect.
 
 use super::Command;
-use crate::debugger::Debugger;
+use servoscope_core::debugger::Debugger;
 
 pub trait DialectPanel {
     fn title(&self) -> &'static str;

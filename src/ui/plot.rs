@@ -12,8 +12,8 @@ use egui_plot::{AxisHints, Legend, Line, Plot, PlotPoints, VLine};
 
 use super::Command;
 use super::theme::{Palette, palette};
-use crate::debugger::trace::{Channel, MAX_CHANNELS, PLOT_GROUPS, Trace};
-use crate::debugger::{ChannelChoice, Debugger};
+use servoscope_core::debugger::trace::{Channel, MAX_CHANNELS, PLOT_GROUPS, Trace};
+use servoscope_core::debugger::{ChannelChoice, Debugger};
 
 #[derive(Clone, Copy, PartialEq)]
 struct CacheKey {
@@ -507,7 +507,10 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut PlotView, out: &m
                         })
                         .collect();
                     let markers = if row == 0 {
-                        machine.plot_markers()
+                        machine
+                            .as_motion()
+                            .map(|m| m.plot_markers())
+                            .unwrap_or_default()
                     } else {
                         Vec::new()
                     };
@@ -518,7 +521,8 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut PlotView, out: &m
                             .chain(markers.iter().map(|(_, v)| *v as f64)),
                     );
                     // The in-position window around its channel (TML: TPOS ± POSOKLIM).
-                    if let Some((name, half, label)) = machine.plot_band()
+                    if let Some((name, half, label)) =
+                        machine.as_motion().and_then(|m| m.plot_band())
                         && let Some((_, _, points)) = lines
                             .iter()
                             .find(|(_, c, _)| c.expr.is_none() && c.name == name)

@@ -9,9 +9,9 @@ use egui_extras::{Column, TableBuilder};
 
 use super::theme::palette;
 use super::{Command, Prefs};
-use crate::debugger::Debugger;
-use crate::machine::value::{self, Format, sign_extend};
-use crate::machine::{Loc, LocInfo, MachineView, SpaceKind};
+use servoscope_core::debugger::Debugger;
+use servoscope_core::machine::value::{self, Format, sign_extend};
+use servoscope_core::machine::{Loc, LocInfo, MachineView, SpaceKind};
 
 pub struct RegisterView {
     /// The Value column's format for every location, per dialect (by name), where the user
@@ -188,7 +188,7 @@ fn flags(ui: &mut egui::Ui, debugger: &Debugger, out: &mut Vec<Command>) {
         let not_started = m.pos().tick == 0 && m.pos().step == 0;
         let mut chip =
             |ui: &mut egui::Ui, loc: Loc, bit: u8, name: &str, tip: String, label: String| {
-                if not_started && m.driven_by_scan(loc) {
+                if not_started && m.as_plc().is_some_and(|plc| plc.driven_by_scan(loc)) {
                     let text = RichText::new(name).size(12.0).color(p.dim);
                     let r = ui.add_enabled(
                         false,

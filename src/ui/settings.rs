@@ -5,8 +5,8 @@
 use egui::RichText;
 
 use super::Command;
-use crate::debugger::Debugger;
-use crate::machine::registry::Settings;
+use servoscope_core::debugger::Debugger;
+use servoscope_core::registry::Settings;
 
 #[derive(Default)]
 pub struct SettingsView {

@@ -4,8 +4,8 @@
 use egui::RichText;
 
 use super::theme::palette;
-use crate::debugger::Debugger;
-use crate::machine::{Pos, RunState};
+use servoscope_core::debugger::Debugger;
+use servoscope_core::machine::{Pos, RunState};
 
 /// The run state as the status bar words it.
 pub fn state_text(debugger: &Debugger) -> String {
@@ -103,7 +103,7 @@ pub fn rate_text(ticks_per_second: f64, tick_micros: u32, ticks: &str) -> String
         format!("{} ", two_significant(ticks_per_second))
     };
     let factor = if real_time >= 10.0 {
-        crate::machine::value::group_thousands(real_time.round() as u64)
+        servoscope_core::machine::value::group_thousands(real_time.round() as u64)
     } else if real_time >= 0.01 || real_time == 0.0 {
         format!("{real_time:.2}")
     } else {

@@ -5,8 +5,8 @@ use egui::{RichText, Stroke, vec2};
 
 use super::Command;
 use super::theme::palette;
-use crate::debugger::Debugger;
-use crate::debugger::history::MarkKind;
+use servoscope_core::debugger::Debugger;
+use servoscope_core::debugger::history::MarkKind;
 
 #[derive(Default)]
 pub struct TimelineView {
@@ -26,7 +26,7 @@ pub fn show(
     let now = pos.tick;
     let furthest = debugger.furthest_tick();
     ui.horizontal_wrapped(|ui| {
-        let back_ok = pos > crate::machine::Pos::default() && !debugger.is_edited();
+        let back_ok = pos > servoscope_core::machine::Pos::default() && !debugger.is_edited();
         if ui
             .add_enabled(back_ok, egui::Button::new("Reverse"))
             .on_hover_text("Back to the previous breakpoint hit (Shift+F5)")

@@ -5,8 +5,8 @@ use egui::RichText;
 
 use super::Command;
 use super::theme::palette;
-use crate::debugger::{Debugger, Watch};
-use crate::machine::Format;
+use servoscope_core::debugger::{Debugger, Watch};
+use servoscope_core::machine::Format;
 
 #[derive(Default)]
 pub struct WatchesView {

@@ -1,0 +1,749 @@
+//! DL205's face for the debugger and the runner (spec §3, §8).
+
+use std::any::Any;
+use std::fmt::Write;
+
+use crate::machine::PlcView;
+use crate::machine::plc::{Forces, ScannedPlc, TimeBase};
+
+use super::program::{Bit, Kind, MAPPED, SPECIAL, bit_name, mapped};
+use super::{Dl205, LEVELS, V_WORDS, bcd_value};
+use crate::machine::{
+    BitInfo, Format, Loc, LocInfo, MachineView, Pos, RunState, SpaceInfo, SpaceKind, WriteError,
+};
+
+pub const ACC: u8 = 0;
+pub const V: u8 = 1;
+pub const X: u8 = 2;
+pub const Y: u8 = 3;
+pub const C: u8 = 4;
+pub const SP: u8 = 5;
+pub const S: u8 = 6;
+pub const T: u8 = 7;
+pub const CT: u8 = 8;
+/// The bit-mapped words V40400–V41237, numbered densely (the regions have gaps between them).
+pub const VM: u8 = 9;
+
+pub(super) const SP_DESCRIPTIONS: [&str; 20] = [
+    "on during the first scan",
+    "always on",
+    "always off",
+    "1-minute clock (on in the second half)",
+    "1-second clock (on in the second half)",
+    "100 ms clock (on in the second half)",
+    "50 ms clock (on in the second half)",
+    "on in odd scans",
+    "divide by zero; table address out of range",
+    "CMP: accumulator less than the operand",
+    "CMP: accumulator equal to the operand",
+    "CMP: accumulator greater than the operand",
+    "the result is zero",
+    "borrow out of the low word",
+    "borrow out of the 32-bit value",
+    "carry out of the low word",
+    "carry out of the 32-bit value",
+    "bit 31 of ACC (negative)",
+    "signed overflow of a binary add",
+    "a BCD instruction met a non-BCD digit",
+];
+
+const NO_BITS: &[BitInfo] = &[];
+
+pub fn kind_space(kind: Kind) -> u8 {
+    match kind {
+        Kind::X => X,
+        Kind::Y => Y,
+        Kind::C => C,
+        Kind::Sp => SP,
+        Kind::S => S,
+        Kind::T => T,
+        Kind::Ct => CT,
+    }
+}
+
+pub fn bit_loc(b: Bit) -> Loc {
+    Loc::new(kind_space(b.kind), b.n)
+}
+
+/// The location of V address `a`: a data word, or a bit-mapped word in [`VM`].
+pub fn v_loc(a: u32) -> Loc {
+    if (a as usize) < V_WORDS {
+        return Loc::new(V, a);
+    }
+    let mut dense = 0;
+    for &(first, last, ..) in &MAPPED {
+        if (first..=last).contains(&a) {
+            return Loc::new(VM, dense + a - first);
+        }
+        dense += last - first + 1;
+    }
+    // Not an address (the assembler lets none through): a location that does not exist.
+    Loc::new(VM, u32::MAX)
+}
+
+/// The V address of bit-mapped word `i` of [`VM`].
+pub fn mapped_address(i: u32) -> Option<u32> {
+    let mut dense = 0;
+    for &(first, last, ..) in &MAPPED {
+        let len = last - first + 1;
+        if i < dense + len {
+            return Some(first + i - dense);
+        }
+        dense += len;
+    }
+    None
+}
+
+const MAPPED_WORDS: u32 = {
+    let mut n = 0;
+    let mut i = 0;
+    while i < MAPPED.len() {
+        n += MAPPED[i].1 - MAPPED[i].0 + 1;
+        i += 1;
+    }
+    n
+};
+
+/// A V word an instruction wrote, and for a bit-mapped word its sixteen elements too.
+pub fn word_writes(a: u32, f: &mut impl FnMut(Loc)) {
+    f(v_loc(a));
+    if let Some((kind, first)) = mapped(a)
+        && kind != Kind::Sp
+    {
+        (first..first + 16).for_each(|n| f(Loc::new(kind_space(kind), n)));
+    }
+}
+
+/// `V1400`, `X17`, `SP53`, `ACC`, `L3` → its location.
+pub fn parse_name(name: &str) -> Option<Loc> {
+    let upper = name.trim().to_ascii_uppercase();
+    if upper == "ACC" {
+        return Some(Loc::new(ACC, 0));
+    }
+    let letters: String = upper
+        .chars()
+        .take_while(|c| c.is_ascii_alphabetic())
+        .collect();
+    let digits = &upper[letters.len()..];
+    if digits.is_empty() || digits.len() > 7 || !digits.chars().all(|c| c.is_ascii_digit()) {
+        return None;
+    }
+    if letters == "L" {
+        let n: u32 = digits.parse().ok()?;
+        return (1..=LEVELS as u32).contains(&n).then(|| Loc::new(ACC, n));
+    }
+    let n = u32::from_str_radix(digits, 8).ok()?;
+    if let Some(&(first, last, ..)) = MAPPED.iter().find(|m| m.3 == letters) {
+        let a = first + n / 16;
+        return (n % 0o20 == 0 && a <= last).then_some(v_loc(a));
+    }
+    match letters.as_str() {
+        "V" if (n as usize) < V_WORDS || mapped(n).is_some() => Some(v_loc(n)),
+        "X" if n < Kind::X.count() => Some(Loc::new(X, n)),
+        "Y" if n < Kind::Y.count() => Some(Loc::new(Y, n)),
+        "C" if n < Kind::C.count() => Some(Loc::new(C, n)),
+        "S" if n < Kind::S.count() => Some(Loc::new(S, n)),
+        "T" if n < Kind::T.count() => Some(Loc::new(T, n)),
+        "CT" if n < Kind::Ct.count() => Some(Loc::new(CT, n)),
+        "TA" if n < Kind::T.count() => Some(Loc::new(V, n)),
+        "CTA" if n < Kind::Ct.count() => Some(Loc::new(V, 0o1000 + n)),
+        "SP" => SPECIAL
+            .iter()
+            .position(|&s| s == n)
+            .map(|i| Loc::new(SP, i as u32)),
+        _ => None,
+    }
+}
+
+impl Dl205 {
+    /// The special relays an instruction that ran wrote, set or cleared (spec §6.3, §6.4): a
+    /// math instruction that met a non-BCD digit or a zero divisor wrote only SP75 or SP53.
+    pub fn flags_written(&self, op: super::program::Op, line: usize) -> &'static [usize] {
+        use super::program::{Math, Op, sp::*};
+        let stopped_by = |flag: usize, at: Option<usize>| self.sp[flag] && at == Some(line);
+        let untouched = self.acc == self.before.0 && self.moved == super::StackMove::None;
+        match op {
+            Op::Bcd(..) | Op::ToBin if untouched && stopped_by(SP75, self.sp75_line) => &[SP75],
+            Op::Bcd(..) | Op::Binary(..) if untouched && stopped_by(SP53, self.sp53_line) => {
+                &[SP53]
+            }
+            Op::Bcd(Math::Add, _) => &[SP63, SP66, SP67, SP70, SP75],
+            Op::Bcd(Math::Sub, _) => &[SP63, SP64, SP65, SP70, SP75],
+            Op::Bcd(Math::Mul, _) => &[SP63, SP70, SP75],
+            Op::Bcd(Math::Div, _) => &[SP53, SP63, SP70, SP75],
+            Op::Binary(Math::Add, _) => &[SP63, SP66, SP67, SP70, SP73],
+            Op::Binary(Math::Sub, _) => &[SP63, SP64, SP65, SP70],
+            Op::Binary(Math::Mul, _) => &[SP63, SP70],
+            Op::Binary(Math::Div, _) => &[SP53, SP63, SP70],
+            Op::ToBin => &[SP63, SP70, SP75],
+            Op::ToBcd | Op::LogicD(..) | Op::LogicS(..) => &[SP63, SP70],
+            Op::IncB(_) | Op::DecB(_) | Op::LogicV(..) => &[SP63],
+            Op::Inv => &[SP63, SP70],
+            Op::Table(..) if self.raised_error && self.sp[SP75] => &[SP75],
+            Op::Table(..) => &[SP53, SP75],
+            Op::Cmp(_) | Op::CmpD(_) => &[SP60, SP61, SP62],
+            // Boxes only ever set SP75 (spec §6.9).
+            Op::Timer(..) | Op::Counter(..) if self.raised_error => &[SP75],
+            _ => &[],
+        }
+    }
+
+    /// The V words the last MOV/SETBIT/RSTBIT wrote (none when it met an error).
+    fn table_writes(&self, f: &mut impl FnMut(Loc)) {
+        use super::program::{Op, Table};
+        let Some(ins) = self.last.and_then(|i| self.program.instrs.get(i as usize)) else {
+            return;
+        };
+        let (Op::Table(kind, operand), Some((start, count))) = (ins.op, self.table_span()) else {
+            return;
+        };
+        if self.raised_error {
+            return;
+        }
+        match kind {
+            Table::Mov => (operand..operand + count).for_each(|a| f(v_loc(a))),
+            Table::SetBit | Table::RstBit => f(v_loc(start + operand / 16)),
+        }
+    }
+
+    /// Each location the last executed instruction wrote (one may come twice).
+    #[inline]
+    fn each_written<F: FnMut(Loc)>(&self, mut f: F) {
+        use super::program::Op;
+        let Some(ins) = self.last.and_then(|i| self.program.instrs.get(i as usize)) else {
+            return;
+        };
+        if self.acc != self.before.0 {
+            f(Loc::new(ACC, 0));
+        }
+        // The levels a push or pop shifted (those holding values), or the one overwritten.
+        let levels = match self.moved {
+            super::StackMove::None => 0,
+            super::StackMove::Push { .. } => u32::from(self.depth),
+            super::StackMove::Pop { .. } => u32::from(self.depth) + 1,
+            super::StackMove::Overwrite { .. } => 1,
+        };
+        (1..=levels.min(LEVELS as u32)).for_each(|i| f(Loc::new(ACC, i)));
+        if self.last_ran || ins.op.always_runs() {
+            for &flag in self.flags_written(ins.op, ins.line) {
+                f(Loc::new(SP, flag as u32));
+            }
+        }
+        match ins.op {
+            Op::OutV(a) | Op::IncB(a) | Op::DecB(a) if self.last_ran => word_writes(a, &mut f),
+            Op::OutD(a) if self.last_ran => {
+                word_writes(a, &mut f);
+                word_writes(a + 1, &mut f);
+            }
+            Op::Table(..) if self.last_ran => self.table_writes(&mut f),
+            Op::Coil(b) | Op::Pd(b, _) | Op::OrOut(b, _) => f(bit_loc(b)),
+            Op::Timer(..) | Op::Counter(..) => {
+                // Value word(s) and status; SP75 came with the flags above.
+                let writes = super::fast::box_writes(&ins.op);
+                writes[..writes.len() - 1].iter().for_each(|&loc| f(loc));
+            }
+            Op::Rst(a, b) if self.last_ran && matches!(a.kind, Kind::T | Kind::Ct) => {
+                for n in a.n..=b.n {
+                    let status = Bit { kind: a.kind, n };
+                    let word = super::program::current_word(a.kind, n);
+                    let words = self.program.box_words(status);
+                    (word..word + words).for_each(|w| f(Loc::new(V, w)));
+                    f(bit_loc(status));
+                }
+            }
+            Op::Set(a, b) | Op::Rst(a, b) if self.last_ran => {
+                (a.n..=b.n).for_each(|n| f(Loc::new(kind_space(a.kind), n)));
+            }
+            Op::Jmp { to, own } if self.last_ran => {
+                f(Loc::new(S, own));
+                f(Loc::new(S, to));
+            }
+            Op::Njmp { to, own } if self.s.get(to as usize) == Some(&true) => {
+                let rung = self
+                    .power
+                    .get(self.last.unwrap_or(0) as usize)
+                    .copied()
+                    .flatten();
+                if rung == Some(false) && self.block_power {
+                    f(Loc::new(S, own));
+                    f(Loc::new(S, to));
+                }
+            }
+            Op::For(..) if self.raised_error => f(Loc::new(SP, super::program::sp::SP75 as u32)),
+            Op::OutF(e, n) if self.last_ran => {
+                (e.n..e.n + u32::from(n)).for_each(|i| f(Loc::new(kind_space(e.kind), i)));
+            }
+            _ => {}
+        }
+    }
+}
+
+impl MachineView for Dl205 {
+    fn dialect(&self) -> &'static str {
+        "dl205"
+    }
+    fn tick_micros(&self) -> u32 {
+        self.time.micros()
+    }
+    fn spaces(&self) -> Vec<SpaceInfo> {
+        vec![
+            SpaceInfo {
+                name: "acc",
+                title: "Accumulator and stack",
+                kind: SpaceKind::Registers,
+                len: 1 + LEVELS as u32,
+            },
+            SpaceInfo {
+                name: "V",
+                title: "V-memory",
+                kind: SpaceKind::Registers,
+                len: V_WORDS as u32,
+            },
+            SpaceInfo {
+                name: "X",
+                title: "Inputs",
+                kind: SpaceKind::Inputs,
+                len: Kind::X.count(),
+            },
+            SpaceInfo {
+                name: "Y",
+                title: "Outputs",
+                kind: SpaceKind::Bits,
+                len: Kind::Y.count(),
+            },
+            SpaceInfo {
+                name: "C",
+                title: "Control relays",
+                kind: SpaceKind::Bits,
+                len: Kind::C.count(),
+            },
+            SpaceInfo {
+                name: "SP",
+                title: "Special relays",
+                kind: SpaceKind::Flags,
+                len: SPECIAL.len() as u32,
+            },
+            SpaceInfo {
+                name: "S",
+                title: "Stage bits",
+                kind: SpaceKind::Bits,
+                len: Kind::S.count(),
+            },
+            SpaceInfo {
+                name: "T",
+                title: "Timer status bits",
+                kind: SpaceKind::Bits,
+                len: Kind::T.count(),
+            },
+            SpaceInfo {
+                name: "CT",
+                title: "Counter status bits",
+                kind: SpaceKind::Bits,
+                len: Kind::Ct.count(),
+            },
+            SpaceInfo {
+                name: "VM",
+                title: "Bit-mapped words",
+                kind: SpaceKind::Registers,
+                len: MAPPED_WORDS,
+            },
+        ]
+    }
+    fn info(&self, loc: Loc) -> Option<LocInfo> {
+        let i = loc.index;
+        let bit = |name: String, description: &'static str, editable: bool| LocInfo {
+            name,
+            alias: None,
+            description,
+            width: 1,
+            signed: false,
+            format: None,
+            bits: NO_BITS,
+            editable,
+        };
+        match loc.space {
+            ACC if i == 0 => Some(LocInfo {
+                description: "accumulator",
+                format: Some(Format::Bcd),
+                editable: false,
+                ..LocInfo::word("ACC".into(), 32, false)
+            }),
+            ACC if (i as usize) <= LEVELS => Some(LocInfo {
+                description: "accumulator stack level",
+                format: Some(Format::Bcd),
+                editable: false,
+                ..LocInfo::word(format!("L{i}"), 32, false)
+            }),
+            V if (i as usize) < V_WORDS => Some(LocInfo {
+                description: "V-memory word",
+                format: Some(Format::Bcd),
+                ..LocInfo::word(format!("V{i:o}"), 16, false)
+            }),
+            // A bit-mapped word reads as its 16 elements: binary.
+            VM => mapped_address(i)
+                .and_then(|a| Some((a, mapped(a)?)))
+                .map(|(a, (kind, _))| LocInfo {
+                    description: match kind {
+                        Kind::X => "bit-mapped inputs (VX, read-only)",
+                        Kind::Y => "bit-mapped outputs (VY)",
+                        Kind::C => "bit-mapped control relays (VC)",
+                        Kind::S => "bit-mapped stage bits (VS)",
+                        Kind::T => "bit-mapped timer status (VT, read-only)",
+                        Kind::Ct => "bit-mapped counter status (VCT, read-only)",
+                        Kind::Sp => "bit-mapped special relays (VSP, read-only)",
+                    },
+                    format: Some(Format::Binary),
+                    editable: super::program::writable_word(a),
+                    ..LocInfo::word(format!("V{a:o}"), 16, false)
+                }),
+            X if i < Kind::X.count() => Some(bit(format!("X{i:o}"), "input", true)),
+            Y if i < Kind::Y.count() => Some(bit(format!("Y{i:o}"), "output", true)),
+            C if i < Kind::C.count() => Some(bit(format!("C{i:o}"), "control relay", true)),
+            S if i < Kind::S.count() => Some(bit(format!("S{i:o}"), "stage bit", true)),
+            // The boxes own their status bits: RST in the program clears them.
+            T if i < Kind::T.count() => Some(bit(format!("T{i:o}"), "timer status", false)),
+            CT if i < Kind::Ct.count() => Some(bit(format!("CT{i:o}"), "counter status", false)),
+            SP => SPECIAL
+                .get(i as usize)
+                .map(|&n| bit(format!("SP{n:o}"), SP_DESCRIPTIONS[i as usize], false)),
+            _ => None,
+        }
+    }
+    fn read(&self, loc: Loc) -> u64 {
+        let i = loc.index as usize;
+        match loc.space {
+            ACC if i == 0 => u64::from(self.acc),
+            ACC => self.stack.get(i - 1).map_or(0, |&v| u64::from(v)),
+            V => u64::from(self.word(i as u32)),
+            VM => mapped_address(i as u32).map_or(0, |a| u64::from(self.word(a))),
+            // A forced input reads as what the program sees.
+            X => u64::from(
+                self.forces
+                    .get(loc)
+                    .unwrap_or_else(|| self.x.get(i).copied().unwrap_or(false)),
+            ),
+            Y => u64::from(self.y.get(i).copied().unwrap_or(false)),
+            C => u64::from(self.c.get(i).copied().unwrap_or(false)),
+            SP => u64::from(self.sp.get(i).copied().unwrap_or(false)),
+            S => u64::from(self.s.get(i).copied().unwrap_or(false)),
+            T => u64::from(self.t.get(i).copied().unwrap_or(false)),
+            CT => u64::from(self.ct.get(i).copied().unwrap_or(false)),
+            _ => 0,
+        }
+    }
+    fn write(&mut self, loc: Loc, value: u64) -> Result<(), WriteError> {
+        let info = crate::machine::check_write(self, loc, value)?;
+        self.forces.check_write(loc, || info.name)?;
+        let i = loc.index as usize;
+        let on = value != 0;
+        match loc.space {
+            V => self.set_word(i as u32, value as u16),
+            VM => match mapped_address(i as u32) {
+                Some(a) => self.set_word(a, value as u16),
+                None => return Err(WriteError::NoSuchLocation),
+            },
+            X => self.x[i] = on,
+            Y => self.y[i] = on,
+            C => self.c[i] = on,
+            S => self.s[i] = on,
+            _ => return Err(WriteError::NoSuchLocation),
+        }
+        // A word edit over forced bits (VY) leaves them as forced.
+        crate::machine::plc::hold_forces(self);
+        Ok(())
+    }
+    fn find(&self, name: &str) -> Option<Loc> {
+        parse_name(name)
+    }
+    fn used(&self) -> Vec<Loc> {
+        let mut out: Vec<Loc> = (0..=LEVELS as u32).map(|i| Loc::new(ACC, i)).collect();
+        out.extend(self.program.used_v.iter().map(|&n| v_loc(n)));
+        out.extend(self.program.used_bits.iter().map(|&b| bit_loc(b)));
+        out.extend((0..SPECIAL.len() as u32).map(|i| Loc::new(SP, i)));
+        out
+    }
+    fn line_notes(&self) -> Vec<(usize, String)> {
+        use super::program::Op;
+        let line = |i: u32| ScannedPlc::instruction_line(self, i as usize);
+        let mut notes = Vec::new();
+        // The loop running now, and those the calls in progress were made from.
+        let loops = self
+            .calls
+            .iter()
+            .filter_map(|f| f.loop_state)
+            .chain(self.loop_state);
+        for l in loops {
+            let Some(Op::For(count, _)) = self.program.instrs.get(l.for_at as usize).map(|i| i.op)
+            else {
+                continue;
+            };
+            let total = match count {
+                super::program::W::K(k) => bcd_value(u32::from(k), 4),
+                super::program::W::V(a) => bcd_value(u32::from(self.word(a)), 4),
+            };
+            if let Some(total) = total {
+                let turn = total.saturating_sub(u64::from(l.left)) + 1;
+                notes.push((line(l.for_at), format!("turn {turn} of {total}")));
+            }
+        }
+        // The subroutine now running, and where each call came from.
+        for (depth, frame) in self.calls.iter().enumerate() {
+            let sbr = match self
+                .program
+                .instrs
+                .get(frame.ret as usize - 1)
+                .map(|i| i.op)
+            {
+                Some(Op::Gts(to)) => to,
+                _ => continue,
+            };
+            notes.push((
+                line(sbr),
+                format!(
+                    "called from line {} (depth {})",
+                    line(frame.ret - 1),
+                    depth + 1
+                ),
+            ));
+        }
+        for &i in &self.fired_this_scan {
+            notes.push((line(i), "fired".into()));
+        }
+        notes
+    }
+    fn call_stack_lines(&self) -> Vec<usize> {
+        self.calls
+            .iter()
+            .map(|f| ScannedPlc::instruction_line(self, f.ret as usize))
+            .collect()
+    }
+    fn pc_line(&self) -> Option<usize> {
+        self.program.instrs.get(self.pc as usize).map(|i| i.line)
+    }
+    fn run_state(&self) -> RunState {
+        RunState::Running
+    }
+    fn pos(&self) -> Pos {
+        Pos {
+            tick: self.tick,
+            step: self.step,
+        }
+    }
+    fn steps(&self) -> u64 {
+        self.steps
+    }
+    fn for_each_written(&self, f: &mut dyn FnMut(Loc)) {
+        self.each_written(f);
+    }
+    fn note_writes(&self, set: &mut crate::machine::WriteSet) {
+        self.each_written(|loc| set.insert(loc));
+    }
+    fn explain_last(&self) -> Option<String> {
+        super::explain::explain(self)
+    }
+    fn last_line(&self) -> Option<usize> {
+        self.last
+            .and_then(|i| self.program.instrs.get(i as usize))
+            .map(|i| i.line)
+    }
+    /// SP53 (divide by zero) or SP75 (a non-BCD digit): the DL205's own error flags.
+    fn error_lamp(&self) -> bool {
+        self.sp[super::program::sp::SP53] || self.sp[super::program::sp::SP75]
+    }
+    fn report_json(&self) -> String {
+        let mut regs = vec![format!("\"ACC\":{}", self.acc)];
+        regs.extend(
+            self.stack
+                .iter()
+                .enumerate()
+                .map(|(i, v)| format!("\"L{}\":{v}", i + 1)),
+        );
+        regs.extend(
+            self.v
+                .iter()
+                .enumerate()
+                .filter(|(_, v)| **v != 0)
+                .map(|(i, v)| format!("\"V{i:o}\":{v}")),
+        );
+        let flags: Vec<String> = SPECIAL
+            .iter()
+            .enumerate()
+            .map(|(i, n)| format!("\"SP{n:o}\":{}", u8::from(self.sp[i])))
+            .collect();
+        let mut bits = Vec::new();
+        for (kind, values) in [
+            (Kind::X, &self.x_image),
+            (Kind::Y, &self.y),
+            (Kind::C, &self.c),
+            (Kind::S, &self.s),
+            (Kind::T, &self.t),
+            (Kind::Ct, &self.ct),
+        ] {
+            for (i, _) in values.iter().enumerate().filter(|(_, b)| **b) {
+                bits.push(format!("\"{}\":1", bit_name(Bit { kind, n: i as u32 })));
+            }
+        }
+        format!(
+            "\"scan_ms\":{},\"time_ms\":{},\"registers\":{{{}}},\"flags\":{{{}}},\"bits\":{{{}}},\"stack_depth\":{}",
+            self.time.scan_ms,
+            self.time.time_ms(self.tick),
+            regs.join(","),
+            flags.join(","),
+            bits.join(","),
+            self.depth
+        )
+    }
+    fn report_text(&self) -> String {
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "ACC: {:08X}  stack ({}): {}",
+            self.acc,
+            self.depth,
+            self.stack
+                .iter()
+                .map(|v| format!("{v:08X}"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        );
+        let v: Vec<String> = self
+            .v
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| **v != 0)
+            .map(|(i, v)| format!("V{i:o}={v:04X}"))
+            .collect();
+        let _ = writeln!(out, "V-memory (non-zero, hex): {}", v.join(" "));
+        out
+    }
+    fn as_plc(&self) -> Option<&dyn PlcView> {
+        Some(self)
+    }
+    fn as_plc_mut(&mut self) -> Option<&mut dyn PlcView> {
+        Some(self)
+    }
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+impl ScannedPlc for Dl205 {
+    fn assemble(source: &str, time: TimeBase) -> Result<Self, Vec<crate::machine::Diagnostic>> {
+        Ok(Dl205::with_time(
+            std::sync::Arc::new(super::assemble(source)?),
+            time,
+        ))
+    }
+    fn instruction_count(&self) -> usize {
+        self.program.instrs.len()
+    }
+    fn instruction_line(&self, index: usize) -> usize {
+        self.program.instrs.get(index).map_or(0, |i| i.line)
+    }
+    fn scan_writes(&self) -> crate::machine::WriteSet {
+        self.program.scan_writes
+    }
+    fn diagram(&self) -> std::sync::Arc<crate::machine::plc::ladder::Ladder> {
+        self.program.ladder.clone()
+    }
+    fn conducts(&self, index: usize) -> bool {
+        Dl205::conducts(self, index)
+    }
+    fn rung_power(&self) -> Vec<(usize, crate::machine::LinePower)> {
+        use crate::machine::LinePower;
+        // What this scan has passed: in the main program execution only moves forward (FOR
+        // loops go back inside what already ran), so an instruction before the frontier that
+        // did not run was jumped over. Between scans the whole last scan is known.
+        let scan_over = self.step == 0 && self.tick > 0;
+        let frontier = self.calls.first().map_or(self.pc, |f| f.ret - 1) as usize;
+        let end = self
+            .program
+            .instrs
+            .iter()
+            .position(|i| i.op == super::program::Op::End)
+            .unwrap_or(usize::MAX);
+        self.program
+            .instrs
+            .iter()
+            .zip(&self.power)
+            .enumerate()
+            .filter_map(|(i, (ins, power))| {
+                let state = match *power {
+                    None if scan_over || (i < frontier && i <= end && self.step > 0) => {
+                        LinePower::NotRun
+                    }
+                    None => return None,
+                    Some(true) => LinePower::On,
+                    Some(false) if ins.op.is_output() && !ins.op.always_runs() => {
+                        LinePower::Skipped
+                    }
+                    Some(false) => LinePower::Off,
+                };
+                Some((ins.line, state))
+            })
+            .collect()
+    }
+
+    fn box_rows(&self) -> Vec<crate::machine::plc::BoxRow> {
+        self.boxes()
+    }
+    fn relay_driven_by_scan(&self, loc: Loc) -> bool {
+        loc.space == SP && (loc.index as usize) <= super::program::sp::SP7
+    }
+    fn force_table(&self) -> &Forces {
+        &self.forces
+    }
+    fn force_table_mut(&mut self) -> &mut Forces {
+        &mut self.forces
+    }
+    /// X, Y, C and S bits can be forced (DL250/260 override); timer, counter and special
+    /// relays are the CPU's own.
+    fn forceable(space: u8) -> bool {
+        matches!(space, X | Y | C | S)
+    }
+    fn forced_store(&mut self, space: u8) -> Option<&mut [bool]> {
+        Some(match space {
+            X => &mut self.x_image,
+            Y => &mut self.y,
+            C => &mut self.c,
+            S => &mut self.s,
+            _ => return None,
+        })
+    }
+    fn begin_scan(&mut self) {
+        self.scan_start();
+    }
+    fn execute(&mut self) {
+        Dl205::execute(self);
+    }
+    fn count_empty_scan(&mut self) {
+        self.tick += 1;
+    }
+    fn scan_fast(&mut self) -> bool {
+        Dl205::scan_fast(self)
+    }
+    fn state_bytes(&self) -> usize {
+        use std::mem::size_of_val as bytes;
+        bytes(self)
+            + bytes(&self.v[..])
+            + bytes(&self.x[..])
+            + bytes(&self.x_image[..])
+            + bytes(&self.y[..])
+            + bytes(&self.c[..])
+            + bytes(&self.s[..])
+            + bytes(&self.t[..])
+            + bytes(&self.ct[..])
+            + bytes(&self.t_ms[..])
+            + bytes(&self.t_counted[..])
+            + bytes(&self.ct_in[..])
+            + bytes(&self.edges.0[..])
+            + bytes(&self.fired_this_scan[..])
+            + bytes(&self.orout_marks[..])
+            + bytes(&self.calls[..])
+            + bytes(&self.stage_marks[..])
+            + bytes(&self.stage_changes[..])
+            + bytes(&self.bstack[..])
+            + bytes(&self.power[..])
+            + bytes(&self.forces.0[..])
+    }
+}

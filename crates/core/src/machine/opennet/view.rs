@@ -1,0 +1,830 @@
+//! OpenNet's face for the debugger and the runner (spec §2, §9).
+
+use std::any::Any;
+use std::fmt::Write;
+
+use crate::machine::PlcView;
+use crate::machine::plc::{Forces, ScannedPlc, TimeBase};
+
+use super::program::{Area, BOXES, Bit, Op, SPECIAL, Value, Word, point_name};
+use super::{M8003, M8004, Mark, OpenNet};
+use crate::machine::{
+    Format, LinePower, Loc, LocInfo, MachineView, Pos, RunState, SpaceInfo, SpaceKind, WriteError,
+};
+
+pub const D: u8 = 0;
+pub const I: u8 = 1;
+pub const Q: u8 = 2;
+pub const M: u8 = 3;
+pub const SPECIAL_SPACE: u8 = 4;
+pub const R: u8 = 5;
+/// Timer outputs, current values, presets; the same for counters.
+pub const T: u8 = 6;
+pub const T_CURRENT: u8 = 7;
+pub const T_PRESET: u8 = 8;
+pub const C: u8 = 9;
+pub const C_CURRENT: u8 = 10;
+pub const C_PRESET: u8 = 11;
+/// RLO (0) and MC (1).
+pub const LOGIC: u8 = 12;
+
+const SPECIAL_DESCRIPTIONS: [&str; 7] = [
+    "carry (ADD) or borrow (SUB), last bit shifted out (SFTL/SFTR)",
+    "user program execution error (latched)",
+    "initialize pulse: on in scan 0",
+    "1-s clock: on while t mod 1000 ms < 500",
+    "100-ms clock: on while t mod 100 ms < 50",
+    "10-ms clock: on while t mod 10 ms < 5",
+    "in operation: on in every scan",
+];
+
+fn area_of(space: u8) -> Option<Area> {
+    match space {
+        I => Some(Area::I),
+        Q => Some(Area::Q),
+        M => Some(Area::M),
+        R => Some(Area::R),
+        _ => None,
+    }
+}
+
+pub fn area_space(area: Area) -> u8 {
+    match area {
+        Area::I => I,
+        Area::Q => Q,
+        Area::M => M,
+        Area::R => R,
+    }
+}
+
+pub fn bit_loc(b: Bit) -> Loc {
+    match b {
+        Bit::Point(area, i) => Loc::new(area_space(area), i),
+        Bit::Special(s) => Loc::new(SPECIAL_SPACE, u32::from(s)),
+        Bit::Timer(n) => Loc::new(T, n),
+        Bit::Counter(n) => Loc::new(C, n),
+    }
+}
+
+/// `D12`, `I17`, `M8003`, `R7`, `T3`, `T3.current`, `C0.preset`, `MC` → its location.
+pub fn parse_name(name: &str) -> Option<Loc> {
+    let name = name.trim();
+    if name.eq_ignore_ascii_case("MC") {
+        return Some(Loc::new(LOGIC, 1));
+    }
+    if name.eq_ignore_ascii_case("RLO") {
+        return Some(Loc::new(LOGIC, 0));
+    }
+    let (name, field) = match name.split_once('.') {
+        Some((n, f)) => (n, Some(f.to_ascii_lowercase())),
+        None => (name, None),
+    };
+    let mut chars = name.chars();
+    let letter = chars.next()?.to_ascii_uppercase();
+    let digits = chars.as_str();
+    if digits.is_empty() || digits.len() > 6 || !digits.chars().all(|c| c.is_ascii_digit()) {
+        return None;
+    }
+    let n: u32 = digits.parse().ok()?;
+    if let Some(field) = field {
+        let space = match (letter, field.as_str()) {
+            ('T', "current") => T_CURRENT,
+            ('T', "preset") => T_PRESET,
+            ('C', "current") => C_CURRENT,
+            ('C', "preset") => C_PRESET,
+            _ => return None,
+        };
+        return (n < BOXES).then(|| Loc::new(space, n));
+    }
+    match letter {
+        'D' if n < super::REGISTERS as u32 => Some(Loc::new(D, n)),
+        'T' if n < BOXES => Some(Loc::new(T, n)),
+        'C' if n < BOXES => Some(Loc::new(C, n)),
+        'R' if n < Area::R.points() => Some(Loc::new(R, n)),
+        'M' if n >= 8000 => SPECIAL
+            .iter()
+            .position(|&s| u32::from(s) == n)
+            .map(|i| Loc::new(SPECIAL_SPACE, i as u32)),
+        'I' | 'Q' | 'M' => {
+            let area = match letter {
+                'I' => Area::I,
+                'Q' => Area::Q,
+                _ => Area::M,
+            };
+            if n % 10 >= 8 {
+                return None;
+            }
+            let index = n / 10 * 8 + n % 10;
+            (index < area.points()).then(|| Loc::new(area_space(area), index))
+        }
+        _ => None,
+    }
+}
+
+/// Each location a word operand covers in `words` words at `offset`: registers, points, or
+/// (as a destination) timer and counter presets.
+fn word_locs(w: &Word, words: u32, offset: u32, f: &mut dyn FnMut(Loc)) {
+    match *w {
+        Word::Reg { n, .. } => (n + offset..n + offset + words).for_each(|r| f(Loc::new(D, r))),
+        Word::Bits { area, index, .. } => {
+            let start = index + offset * 16;
+            (start..start + words * 16).for_each(|b| f(Loc::new(area_space(area), b)));
+        }
+        Word::Timer { n, .. } => {
+            (n + offset..n + offset + words).for_each(|t| f(Loc::new(T_PRESET, t)))
+        }
+        Word::Counter { n, .. } => {
+            (n + offset..n + offset + words).for_each(|c| f(Loc::new(C_PRESET, c)))
+        }
+        Word::Const(_) => {}
+    }
+}
+
+/// Every REP cycle's block of a destination operand.
+fn rep_locs(w: &Word, block: u32, rep: u8, f: &mut dyn FnMut(Loc)) {
+    for c in 0..u32::from(rep) {
+        word_locs(w, block, if w.repeats() { c * block } else { 0 }, f);
+    }
+}
+
+/// Every location `op` may write when it runs (a superset of one execution's writes).
+pub fn static_writes(op: &Op, f: &mut dyn FnMut(Loc)) {
+    use super::program::Arith;
+    match *op {
+        Op::Out(b, _) | Op::Set(b) | Op::Rst(b) => f(bit_loc(b)),
+        Op::Mov { ty, dst, rep, .. } => rep_locs(&dst, ty.words(), rep, f),
+        Op::Arith {
+            op, ty, dst, rep, ..
+        } => {
+            let block = match op {
+                Arith::Add | Arith::Sub => ty.words(),
+                Arith::Mul => 2,
+                Arith::Div => 2 * ty.words(),
+            };
+            rep_locs(&dst, block, rep, f);
+            f(Loc::new(SPECIAL_SPACE, M8003 as u32));
+            f(Loc::new(SPECIAL_SPACE, M8004 as u32));
+        }
+        Op::Step { ty, reg, .. } => (reg..reg + ty.words()).for_each(|r| f(Loc::new(D, r))),
+        Op::Timer { n, preset, .. } => {
+            f(Loc::new(T_CURRENT, n));
+            f(Loc::new(T, n));
+            if let Value::Reg(_) = preset {
+                f(Loc::new(T_PRESET, n));
+            }
+        }
+        Op::Counter { n, preset, .. } => {
+            f(Loc::new(C_CURRENT, n));
+            f(Loc::new(C, n));
+            if let Value::Reg(_) = preset {
+                f(Loc::new(C_PRESET, n));
+            }
+        }
+        Op::ShiftRegister { first, len, .. } => {
+            (first..first + len).for_each(|i| f(Loc::new(R, i)))
+        }
+        Op::WordCompare {
+            dst: (area, at),
+            dst_repeat,
+            rep,
+            ..
+        } => {
+            let span = if dst_repeat { u32::from(rep) } else { 1 };
+            (at..at + span).for_each(|i| f(Loc::new(area_space(area), i)));
+        }
+        Op::WordLogic { ty, dst, rep, .. } => rep_locs(&dst, ty.words(), rep, f),
+        Op::Convert { ty, dst, rep, .. } => {
+            rep_locs(&dst, ty.words(), rep, f);
+            f(Loc::new(SPECIAL_SPACE, M8004 as u32));
+        }
+        Op::Shift { ty, word, .. } => {
+            word_locs(&word, ty.words(), 0, f);
+            f(Loc::new(SPECIAL_SPACE, M8003 as u32));
+        }
+        Op::Mcs(_) | Op::Mcr => f(Loc::new(LOGIC, 1)),
+        _ => {}
+    }
+}
+
+impl OpenNet {
+    /// Each location the last executed instruction wrote (one may come twice).
+    #[inline]
+    fn each_written<F: FnMut(Loc)>(&self, mut f: F) {
+        use super::program::Arith;
+        let Some(instr) = self.last.and_then(|i| self.program.instrs.get(i as usize)) else {
+            return;
+        };
+        match instr.op {
+            Op::Mov { ty, dst, .. } if self.last_acted => {
+                for c in &self.last_cycles {
+                    word_locs(&dst, ty.words(), c.dst_at, &mut f);
+                }
+            }
+            Op::Arith { op, ty, dst, .. } if self.last_acted => {
+                let block = match op {
+                    Arith::Add | Arith::Sub => ty.words(),
+                    Arith::Mul => 2,
+                    Arith::Div => 2 * ty.words(),
+                };
+                for c in self.last_cycles.iter().filter(|c| c.error.is_none()) {
+                    word_locs(&dst, block, c.dst_at, &mut f);
+                }
+                if matches!(op, Arith::Add | Arith::Sub) {
+                    f(Loc::new(SPECIAL_SPACE, M8003 as u32));
+                }
+                if self.last_cycles.iter().any(|c| c.error.is_some()) {
+                    f(Loc::new(SPECIAL_SPACE, M8004 as u32));
+                }
+            }
+            Op::Convert { ty, dst, .. } if self.last_acted => {
+                for c in &self.last_cycles {
+                    if c.error.is_none() {
+                        word_locs(&dst, ty.words(), c.dst_at, &mut f);
+                    }
+                }
+                if self.last_cycles.iter().any(|c| c.error.is_some()) {
+                    f(Loc::new(SPECIAL_SPACE, M8004 as u32));
+                }
+            }
+            // Timers, counters and shift registers run whatever their input; the rest act
+            // only when it is on.
+            Op::Out(..)
+            | Op::Set(_)
+            | Op::Rst(_)
+            | Op::Timer { .. }
+            | Op::Counter { .. }
+            | Op::ShiftRegister { .. }
+            | Op::Mcs(_)
+            | Op::Mcr => static_writes(&instr.op, &mut f),
+            op if self.last_acted => static_writes(&op, &mut f),
+            _ => {}
+        }
+    }
+
+    /// Timers the program names, with their instruction (if it has one).
+    pub fn timer_rows(&self) -> Vec<crate::machine::plc::BoxRow> {
+        use crate::machine::plc::BoxRow;
+        let mut rows = Vec::new();
+        let scan_ms = self.time.scan_ms;
+        for instr in &self.program.instrs {
+            match instr.op {
+                Op::Timer { kind, n, preset } => {
+                    let t = self.timers[n as usize];
+                    let inc = kind.increment_ms();
+                    rows.push(BoxRow {
+                        title: format!("{} T{n}", kind.mnemonic()),
+                        status: format!("T{n}"),
+                        preset_from: preset_text(preset),
+                        preset: Some(u64::from(t.preset)),
+                        value_at: format!("T{n}.current"),
+                        value: Some(u64::from(t.current)),
+                        raw: u64::from(t.current),
+                        max: 65535,
+                        unit_ms: Some(inc),
+                        done: t.output,
+                        line: instr.line,
+                        countdown: Some(crate::machine::plc::Countdown {
+                            running: t.running,
+                            elapsed_ms: t.elapsed_ms,
+                            scan_ms,
+                        }),
+                    });
+                }
+                Op::Counter {
+                    kind, n, preset, ..
+                } => {
+                    let c = self.counters[n as usize];
+                    rows.push(BoxRow {
+                        title: format!("{} C{n}", kind.mnemonic()),
+                        status: format!("C{n}"),
+                        preset_from: preset_text(preset),
+                        preset: Some(u64::from(c.preset)),
+                        value_at: format!("C{n}.current"),
+                        value: Some(u64::from(c.current)),
+                        raw: u64::from(c.current),
+                        max: 65535,
+                        unit_ms: None,
+                        done: c.output,
+                        line: instr.line,
+                        countdown: None,
+                    });
+                }
+                _ => {}
+            }
+        }
+        rows
+    }
+}
+
+fn preset_text(v: Value) -> String {
+    match v {
+        Value::Const(c) => c.to_string(),
+        Value::Reg(n) => format!("D{n}"),
+    }
+}
+
+impl MachineView for OpenNet {
+    fn dialect(&self) -> &'static str {
+        "opennet"
+    }
+    fn tick_micros(&self) -> u32 {
+        self.time.micros()
+    }
+    fn spaces(&self) -> Vec<SpaceInfo> {
+        let space = |name, title, kind, len| SpaceInfo {
+            name,
+            title,
+            kind,
+            len,
+        };
+        vec![
+            space(
+                "D",
+                "Data registers",
+                SpaceKind::Registers,
+                super::REGISTERS as u32,
+            ),
+            space("I", "Inputs", SpaceKind::Inputs, Area::I.points()),
+            space("Q", "Outputs", SpaceKind::Bits, Area::Q.points()),
+            space("M", "Internal relays", SpaceKind::Bits, Area::M.points()),
+            space(
+                "special",
+                "Special relays",
+                SpaceKind::Flags,
+                SPECIAL.len() as u32,
+            ),
+            space(
+                "R",
+                "Shift-register bits",
+                SpaceKind::Bits,
+                Area::R.points(),
+            ),
+            space("T", "Timer outputs", SpaceKind::Bits, BOXES),
+            space(
+                "T.current",
+                "Timer current values",
+                SpaceKind::Registers,
+                BOXES,
+            ),
+            space("T.preset", "Timer presets", SpaceKind::Registers, BOXES),
+            space("C", "Counter outputs", SpaceKind::Bits, BOXES),
+            space(
+                "C.current",
+                "Counter current values",
+                SpaceKind::Registers,
+                BOXES,
+            ),
+            space("C.preset", "Counter presets", SpaceKind::Registers, BOXES),
+            space("logic", "Logic state", SpaceKind::Flags, 2),
+        ]
+    }
+    fn info(&self, loc: Loc) -> Option<LocInfo> {
+        let i = loc.index;
+        let bit = |name: String, description: &'static str, editable: bool| LocInfo {
+            name,
+            alias: None,
+            description,
+            width: 1,
+            signed: false,
+            format: None,
+            bits: &[],
+            editable,
+        };
+        let word = |name: String, description: &'static str| LocInfo {
+            description,
+            format: Some(Format::Unsigned),
+            ..LocInfo::word(name, 16, false)
+        };
+        match loc.space {
+            D if (i as usize) < super::REGISTERS => {
+                let signed = self.program.signed_regs.binary_search(&i).is_ok();
+                Some(LocInfo {
+                    description: if signed {
+                        "data register (16 bits), read as signed (type I or L)"
+                    } else {
+                        "data register (16 bits)"
+                    },
+                    // The stored pattern stays unsigned for the trace, the log and conditions
+                    // (spec §2); only the view's reading follows the type.
+                    format: Some(if signed {
+                        Format::Signed
+                    } else {
+                        Format::Unsigned
+                    }),
+                    ..LocInfo::word(format!("D{i}"), 16, false)
+                })
+            }
+            SPECIAL_SPACE => SPECIAL
+                .get(i as usize)
+                .map(|&n| bit(format!("M{n}"), SPECIAL_DESCRIPTIONS[i as usize], i < 2)),
+            // The instructions own the outputs; presets and current values may be edited.
+            T if i < BOXES => Some(bit(
+                format!("T{i}"),
+                "timer output (on when the current value reaches 0)",
+                false,
+            )),
+            C if i < BOXES => Some(bit(format!("C{i}"), "counter output", false)),
+            T_CURRENT if i < BOXES => Some(word(
+                format!("T{i}.current"),
+                "timer current value: counts down from the preset",
+            )),
+            T_PRESET if i < BOXES => Some(word(
+                format!("T{i}.preset"),
+                "timer preset, in the timer's increments",
+            )),
+            C_CURRENT if i < BOXES => Some(word(format!("C{i}.current"), "counter current value")),
+            C_PRESET if i < BOXES => Some(word(format!("C{i}.preset"), "counter preset")),
+            LOGIC => match i {
+                0 => Some(bit("RLO".into(), "result of logic operation", false)),
+                1 => Some(bit(
+                    "MC".into(),
+                    "master control: outputs take RLO AND MC (MCS/MCR)",
+                    false,
+                )),
+                _ => None,
+            },
+            s => {
+                let area = area_of(s)?;
+                (i < area.points()).then(|| {
+                    bit(
+                        point_name(area, i),
+                        match area {
+                            Area::I => "input",
+                            Area::Q => "output",
+                            Area::M => "internal relay",
+                            Area::R => "shift-register bit",
+                        },
+                        true,
+                    )
+                })
+            }
+        }
+    }
+    fn read(&self, loc: Loc) -> u64 {
+        let i = loc.index as usize;
+        let timer = self.timers.get(i);
+        let counter = self.counters.get(i);
+        match loc.space {
+            D => self.d.get(i).map_or(0, |&v| u64::from(v)),
+            // A forced input reads as what the program sees.
+            I => u64::from(
+                self.forces
+                    .get(loc)
+                    .unwrap_or_else(|| self.inputs.get(i).copied().unwrap_or(false)),
+            ),
+            Q => u64::from(self.q.get(i).copied().unwrap_or(false)),
+            M => u64::from(self.m.get(i).copied().unwrap_or(false)),
+            R => u64::from(self.r.get(i).copied().unwrap_or(false)),
+            SPECIAL_SPACE => u64::from(self.special.get(i).copied().unwrap_or(false)),
+            T => timer.map_or(0, |t| u64::from(t.output)),
+            T_CURRENT => timer.map_or(0, |t| u64::from(t.current)),
+            T_PRESET => timer.map_or(0, |t| u64::from(t.preset)),
+            C => counter.map_or(0, |c| u64::from(c.output)),
+            C_CURRENT => counter.map_or(0, |c| u64::from(c.current)),
+            C_PRESET => counter.map_or(0, |c| u64::from(c.preset)),
+            LOGIC if i == 0 => u64::from(self.rlo),
+            LOGIC => u64::from(self.mc),
+            _ => 0,
+        }
+    }
+    fn write(&mut self, loc: Loc, value: u64) -> Result<(), WriteError> {
+        let info = crate::machine::check_write(self, loc, value)?;
+        self.forces.check_write(loc, || info.name)?;
+        let i = loc.index as usize;
+        let on = value != 0;
+        match loc.space {
+            D => self.d[i] = value as u16,
+            I => self.inputs[i] = on,
+            Q => self.q[i] = on,
+            M => self.m[i] = on,
+            R => self.r[i] = on,
+            SPECIAL_SPACE => self.special[i] = on,
+            T_CURRENT => self.timers[i].current = value as u16,
+            T_PRESET => self.timers[i].preset = value as u16,
+            C_CURRENT => self.counters[i].current = value as u16,
+            C_PRESET => self.counters[i].preset = value as u16,
+            _ => return Err(WriteError::NoSuchLocation),
+        }
+        Ok(())
+    }
+
+    fn find(&self, name: &str) -> Option<Loc> {
+        parse_name(name)
+    }
+    fn used(&self) -> Vec<Loc> {
+        let p = &self.program;
+        let mut out: Vec<Loc> = p.used_regs.iter().map(|&n| Loc::new(D, n)).collect();
+        out.extend(
+            p.used_bits
+                .iter()
+                .map(|&(area, i)| Loc::new(area_space(area), i)),
+        );
+        out.extend((0..SPECIAL.len() as u32).map(|i| Loc::new(SPECIAL_SPACE, i)));
+        for &n in &p.used_timers {
+            out.extend([T, T_CURRENT, T_PRESET].map(|s| Loc::new(s, n)));
+        }
+        for &n in &p.used_counters {
+            out.extend([C, C_CURRENT, C_PRESET].map(|s| Loc::new(s, n)));
+        }
+        out.extend([Loc::new(LOGIC, 0), Loc::new(LOGIC, 1)]);
+        out
+    }
+    fn warnings(&self) -> Vec<crate::machine::Diagnostic> {
+        self.program.warnings.clone()
+    }
+    fn line_notes(&self) -> Vec<(usize, String)> {
+        let instrs = &self.program.instrs;
+        let mut notes = Vec::new();
+        for (i, ins) in instrs.iter().enumerate() {
+            let mark = self.marks.get(i).copied().unwrap_or_default();
+            let ran = mark != Mark::Jumped && (self.tick > 0 || i < self.step as usize);
+            match ins.op {
+                Op::Jmp(to) => {
+                    let Some(target) = instrs.get(to as usize) else {
+                        continue;
+                    };
+                    // A jump straight onto its JEND skips nothing: it shows as not taken.
+                    let taken = self.marks.get(i + 1).is_some_and(|m| *m == Mark::Jumped);
+                    let state = match mark {
+                        Mark::Jumped => String::new(),
+                        _ if taken => " (taken)".into(),
+                        _ if ran => " (not taken)".into(),
+                        _ => String::new(),
+                    };
+                    notes.push((ins.line, format!("→ JEND line {}{state}", target.line)));
+                }
+                Op::Jend => {
+                    let from: Vec<String> = instrs
+                        .iter()
+                        .filter(|j| j.op == Op::Jmp(i as u32))
+                        .map(|j| j.line.to_string())
+                        .collect();
+                    if !from.is_empty() {
+                        notes.push((ins.line, format!("← JMP line {}", from.join(", "))));
+                    }
+                }
+                // An area whose MC is off this scan: its code is marked from the MCS on.
+                Op::Mcs(end) => {
+                    let end = instrs.get(end as usize).map_or(0, |j| j.line);
+                    if self.marks.get(i + 1) == Some(&Mark::MasterOff) {
+                        notes.push((ins.line, format!("MC off: outputs off to MCR line {end}")));
+                    }
+                }
+                Op::Timer { n, .. } if ran => {
+                    let t = self.timers[n as usize];
+                    notes.push((ins.line, format!("T{n}.current = {}", t.current)));
+                }
+                Op::Counter { n, .. } if ran => {
+                    let c = self.counters[n as usize];
+                    notes.push((ins.line, format!("C{n}.current = {}", c.current)));
+                }
+                _ => {}
+            }
+        }
+        notes
+    }
+    fn pc_line(&self) -> Option<usize> {
+        self.program.instrs.get(self.pc as usize).map(|i| i.line)
+    }
+    fn run_state(&self) -> RunState {
+        RunState::Running
+    }
+    fn pos(&self) -> Pos {
+        Pos {
+            tick: self.tick,
+            step: self.step,
+        }
+    }
+    fn steps(&self) -> u64 {
+        self.steps
+    }
+    fn for_each_written(&self, f: &mut dyn FnMut(Loc)) {
+        self.each_written(f);
+    }
+    fn note_writes(&self, set: &mut crate::machine::WriteSet) {
+        self.each_written(|loc| set.insert(loc));
+    }
+    fn explain_last(&self) -> Option<String> {
+        super::explain::explain(self)
+    }
+    fn last_line(&self) -> Option<usize> {
+        self.last
+            .and_then(|i| self.program.instrs.get(i as usize))
+            .map(|i| i.line)
+    }
+    fn error_lamp(&self) -> bool {
+        self.special[M8004]
+    }
+    fn report_json(&self) -> String {
+        let regs: Vec<String> = self
+            .d
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| **v != 0)
+            .map(|(i, v)| format!("\"D{i}\":{v}"))
+            .collect();
+        // The five relays always; M8123 and M8125 when the program names them. The clocks as
+        // the last scan saw them; nothing before a scan has run.
+        let named = |i: usize| {
+            self.program.instrs.iter().any(|ins| match ins.op {
+                Op::Lod(b, _) | Op::And(b, _) | Op::Or(b, _) => b == Bit::Special(i as u8),
+                _ => false,
+            })
+        };
+        let flags: Vec<String> = SPECIAL
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| i < 5 || named(i))
+            .map(|(i, n)| {
+                let on = self.special[i] && (i < 2 || self.tick > 0);
+                format!("\"M{n}\":{}", u8::from(on))
+            })
+            .collect();
+        let mut bits = Vec::new();
+        for (area, values) in [
+            (Area::I, &self.input_image),
+            (Area::Q, &self.q),
+            (Area::M, &self.m),
+            (Area::R, &self.r),
+        ] {
+            for (i, _) in values.iter().enumerate().filter(|(_, b)| **b) {
+                bits.push(format!("\"{}\":1", point_name(area, i as u32)));
+            }
+        }
+        let boxes = |list: &[u32], letter: char, get: &dyn Fn(usize) -> (u16, u16, bool)| {
+            list.iter()
+                .map(|&n| {
+                    let (preset, current, output) = get(n as usize);
+                    format!(
+                        "\"{letter}{n}\":{{\"preset\":{preset},\"current\":{current},\"output\":{}}}",
+                        u8::from(output)
+                    )
+                })
+                .collect::<Vec<_>>()
+                .join(",")
+        };
+        let timers = boxes(&self.program.used_timers, 'T', &|n| {
+            let t = self.timers[n];
+            (t.preset, t.current, t.output)
+        });
+        let counters = boxes(&self.program.used_counters, 'C', &|n| {
+            let c = self.counters[n];
+            (c.preset, c.current, c.output)
+        });
+        let last = match self.last_error {
+            None => "null".to_string(),
+            Some(e) => format!(
+                "{{\"kind\":\"{}\",\"line\":{},\"tick\":{}}}",
+                e.kind, e.line, e.tick
+            ),
+        };
+        format!(
+            "\"registers\":{{{}}},\"flags\":{{{}}},\"bits\":{{{}}},\"timers\":{{{timers}}},\"counters\":{{{counters}}},\"settings\":{{\"scan_ms\":{}}},\"error_count\":{},\"last_error\":{last}",
+            regs.join(","),
+            flags.join(","),
+            bits.join(","),
+            self.time.scan_ms,
+            self.error_count
+        )
+    }
+    fn report_text(&self) -> String {
+        let mut out = String::new();
+        let regs: Vec<String> = self
+            .d
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| **v != 0)
+            .map(|(i, v)| format!("D{i}={v}"))
+            .collect();
+        let _ = writeln!(out, "registers (non-zero): {}", regs.join(" "));
+        let _ = writeln!(
+            out,
+            "M8003={} M8004={} errors: {}",
+            u8::from(self.special[0]),
+            u8::from(self.special[1]),
+            self.error_count
+        );
+        if let Some(e) = self.last_error {
+            let _ = writeln!(
+                out,
+                "last error: {} on line {} in scan {}",
+                e.kind, e.line, e.tick
+            );
+        }
+        for row in self.timer_rows() {
+            let _ = writeln!(
+                out,
+                "{}: preset {}, current {}, output {}",
+                row.title,
+                row.preset.unwrap_or(0),
+                row.raw,
+                u8::from(row.done)
+            );
+        }
+        out
+    }
+    fn as_plc(&self) -> Option<&dyn PlcView> {
+        Some(self)
+    }
+    fn as_plc_mut(&mut self) -> Option<&mut dyn PlcView> {
+        Some(self)
+    }
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+impl ScannedPlc for OpenNet {
+    fn assemble(source: &str, time: TimeBase) -> Result<Self, Vec<crate::machine::Diagnostic>> {
+        Ok(OpenNet::with_time(
+            std::sync::Arc::new(super::assemble(source)?),
+            time,
+        ))
+    }
+    fn instruction_count(&self) -> usize {
+        self.program.instrs.len()
+    }
+    fn instruction_line(&self, index: usize) -> usize {
+        self.program.instrs.get(index).map_or(0, |i| i.line)
+    }
+    fn scan_writes(&self) -> crate::machine::WriteSet {
+        self.program.scan_writes
+    }
+    fn diagram(&self) -> std::sync::Arc<crate::machine::plc::ladder::Ladder> {
+        self.program.ladder.clone()
+    }
+    fn conducts(&self, index: usize) -> bool {
+        OpenNet::conducts(self, index)
+    }
+    fn rung_power(&self) -> Vec<(usize, LinePower)> {
+        self.program
+            .instrs
+            .iter()
+            .zip(&self.marks)
+            .filter_map(|(ins, mark)| {
+                let state = match mark {
+                    Mark::NotReached => return None,
+                    // An MCS area that is off: everything in it is dimmed.
+                    Mark::MasterOff => LinePower::MasterOff,
+                    Mark::Jumped => LinePower::NotRun,
+                };
+                Some((ins.line, state))
+            })
+            .collect()
+    }
+
+    fn box_rows(&self) -> Vec<crate::machine::plc::BoxRow> {
+        self.timer_rows()
+    }
+    fn force_table(&self) -> &Forces {
+        &self.forces
+    }
+    fn force_table_mut(&mut self) -> &mut Forces {
+        &mut self.forces
+    }
+    /// I, Q, M and R bits can be forced (WindLDR set/reset forced).
+    fn forceable(space: u8) -> bool {
+        matches!(space, I | Q | M | R)
+    }
+    fn forced_store(&mut self, space: u8) -> Option<&mut [bool]> {
+        Some(match space {
+            I => &mut self.input_image,
+            Q => &mut self.q,
+            M => &mut self.m,
+            R => &mut self.r,
+            _ => return None,
+        })
+    }
+    fn begin_scan(&mut self) {
+        self.refresh();
+    }
+    fn execute(&mut self) {
+        OpenNet::execute(self);
+    }
+    fn count_empty_scan(&mut self) {
+        self.tick += 1;
+    }
+    fn scan_fast(&mut self) -> bool {
+        OpenNet::scan_fast(self)
+    }
+    fn state_bytes(&self) -> usize {
+        use std::mem::size_of_val as bytes;
+        bytes(self)
+            + bytes(&self.d[..])
+            + bytes(&self.inputs[..])
+            + bytes(&self.input_image[..])
+            + bytes(&self.q[..])
+            + bytes(&self.m[..])
+            + bytes(&self.r[..])
+            + bytes(&self.blocks[..])
+            + bytes(&self.branches[..])
+            + bytes(&self.edges.0[..])
+            + bytes(&self.pulses.0[..])
+            + bytes(&self.edge_scans[..])
+            + bytes(&self.forces.0[..])
+            + bytes(&self.timers[..])
+            + bytes(&self.counters[..])
+            + bytes(&self.marks[..])
+            + bytes(&self.last_cycles[..])
+    }
+}

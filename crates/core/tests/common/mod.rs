@@ -1,0 +1,110 @@
+#![allow(dead_code)]
+//! Helpers shared by the integration tests.
+
+pub mod agree;
+pub mod scanned;
+
+use std::path::PathBuf;
+
+use servoscope_core::machine::silverlode::SilverLode;
+use servoscope_core::machine::{Machine, MachineView, RunState};
+
+/// A SilverLode loop for the debugger's tests: R13 is written with the same value every
+/// round and changed once at the end; R12 counts the rounds, R11 counts down from 10.
+pub const ROUNDS: &str = "\
+WRP 13, 5
+WRP 11, 10
+loop: CLC INC, 12
+WRP 13, 5
+CLC DEC, 11
+JMP loop, !ZERO
+WRP 13, 7
+END
+";
+
+/// Assemble `source` into a SilverLode machine with the default servo model.
+pub fn load(source: &str) -> Result<SilverLode, Vec<servoscope_core::machine::Diagnostic>> {
+    servoscope_core::machine::silverlode::dialect::machine(source, &Default::default())
+}
+
+/// Assemble `source` or fail the test with every diagnostic.
+pub fn machine(source: &str) -> SilverLode {
+    match load(source) {
+        Ok(m) => m,
+        Err(diags) => {
+            let text: Vec<String> = diags.iter().map(ToString::to_string).collect();
+            panic!("program did not assemble:\n{}\n{source}", text.join("\n"))
+        }
+    }
+}
+
+/// Run `source` to its end (at most 10 M ticks).
+pub fn run(source: &str) -> SilverLode {
+    let mut m = machine(source);
+    m.run_until(10_000_000, |_| false);
+    m
+}
+
+/// Run and require the program to have ended normally.
+pub fn run_ok(source: &str) -> SilverLode {
+    let m = run(source);
+    assert_eq!(
+        m.run_state(),
+        RunState::Ended,
+        "fault: {:?}\n{source}",
+        m.fault()
+    );
+    m
+}
+
+pub fn reg(m: &SilverLode, r: usize) -> i32 {
+    m.reg(r)
+}
+
+pub fn ureg(m: &SilverLode, r: usize) -> u32 {
+    m.reg(r) as u32
+}
+
+/// The ISW arithmetic flags as (zero, positive, negative).
+pub fn flags(m: &SilverLode) -> (bool, bool, bool) {
+    let isw = m.isw();
+    (isw & 2 != 0, isw & 4 != 0, isw & 8 != 0)
+}
+
+/// A program file in the temporary directory, named apart for each test process.
+pub fn scratch_file(name: &str, text: &str) -> PathBuf {
+    let path = std::env::temp_dir().join(format!("servoscope-{}-{name}", std::process::id()));
+    std::fs::write(&path, text).expect("write a scratch file");
+    path
+}
+
+/// A plot channel of the location `name` of `m`.
+pub fn channel_named(m: &dyn MachineView, name: &str) -> servoscope_core::debugger::trace::Channel {
+    let loc = m.find(name).unwrap_or_else(|| panic!("{name} exists"));
+    let info = m.info(loc).expect("a location has its description");
+    servoscope_core::debugger::trace::Channel {
+        loc,
+        name: name.to_string(),
+        label: name.to_string(),
+        width: info.width,
+        signed: info.signed,
+        reading: info.reading(),
+        group: 0,
+        expr: None,
+    }
+}
+
+/// Every location of `m` with its value, by name: what "the whole state" means when two
+/// machines are compared through the dialect-neutral view.
+pub fn every_value(m: &dyn MachineView) -> Vec<(String, u64)> {
+    let mut out = Vec::new();
+    for (space, info) in m.spaces().iter().enumerate() {
+        for index in 0..info.len {
+            let loc = servoscope_core::machine::Loc::new(space as u8, index);
+            if let Some(i) = m.info(loc) {
+                out.push((i.name, m.read(loc)));
+            }
+        }
+    }
+    out
+}

@@ -1,0 +1,332 @@
+//! Debug sessions: save → load rebuilds exactly the same state (machine, trace, history,
+//! marks, breakpoints); corrupt, truncated, foreign and newer files are refused clearly; the
+//! runner saves and resumes sessions exactly as spec §8 says; the example sessions load.
+
+use crate::common;
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use servoscope_core::debugger::history::CHECKPOINT_EVERY;
+use servoscope_core::debugger::{Debugger, Speed};
+use servoscope_core::machine::silverlode::SilverLode;
+use servoscope_core::machine::silverlode::view::{ISW, io, reg};
+use servoscope_core::machine::{Machine, MachineView, RunState};
+use servoscope_core::session::{Session, SessionError, ViewSettings};
+
+fn sl(d: &Debugger) -> &SilverLode {
+    d.machine_as::<SilverLode>().expect("a SilverLode machine")
+}
+
+fn temp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("servoscope-sessions-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+const PROGRAM: &str = "\
+        CLD Q_INIT, 10, 40, 3
+loop:   CLD Q_PUSH_HEAD, 11, 40, 5
+        CLD Q_POP_TAIL, 12, 40, 0
+        MRV 300, 386500, 80530640, IO2
+        CLC INC, 20
+        DLY 500
+        CLD SUB, 21, 20, 40
+        JMP loop, !ZERO
+        END
+";
+
+fn busy_debugger() -> Debugger {
+    let mut d = Debugger::new("prog.qsl", PROGRAM);
+    d.set_speed(Speed::Unlimited);
+    d.toggle_breakpoint(5);
+    let drive = |d: &mut Debugger, tick: u64| {
+        d.goto_tick(tick);
+        while d.advance(0.016, Duration::from_secs(5)) {}
+    };
+    drive(&mut d, 2_000);
+    d.set_input(io(1), true).expect("an input");
+    drive(&mut d, 2_500);
+    d.set_input(io(1), false).expect("an input");
+    d.set_value(reg(30), 0xBEEF).expect("a register edit");
+    d.set_bit(ISW, 12, true).expect("an ISW bit");
+    drive(&mut d, CHECKPOINT_EVERY + 4_000);
+    d.run();
+    while d.advance(0.016, Duration::from_secs(5)) {}
+    assert_eq!(
+        d.event().map(|e| e.describe("tick")),
+        Some("Breakpoint hit at line 5".to_string())
+    );
+    d.goto_tick(CHECKPOINT_EVERY + 123);
+    d
+}
+
+#[test]
+fn save_then_load_rebuilds_exactly_the_same_state() {
+    let d = busy_debugger();
+    let view = ViewSettings {
+        selected: Some("R30".to_string()),
+        formats: vec![("R31".to_string(), servoscope_core::machine::Format::Bcd)],
+        ..ViewSettings::default()
+    };
+    let session = Session::capture(&d, Some(PathBuf::from("prog.qsl")), view.clone());
+    let path = temp("busy.ron");
+    session.save(&path).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("format: 2"), "explicit version");
+    assert!(
+        text.contains("dialect: \"silverlode\""),
+        "the dialect is recorded"
+    );
+    assert!(
+        text.contains("location: \"IO2\""),
+        "the input timeline is in the file, by input name"
+    );
+    assert!(text.lines().count() > 10, "pretty-printed, diffable");
+
+    let loaded = Session::load(&path).unwrap();
+    assert_eq!(loaded, session);
+    assert_eq!(loaded.view, view);
+    let r = loaded.restore("busy.ron").unwrap();
+    assert!(
+        r.machine_as::<SilverLode>() == d.machine_as::<SilverLode>(),
+        "the whole machine state is identical"
+    );
+    assert_eq!(r.machine().ticks(), CHECKPOINT_EVERY + 123);
+    assert_eq!(
+        r.furthest_tick(),
+        d.furthest_tick(),
+        "the history reaches as far"
+    );
+    assert_eq!(r.events(), d.events());
+    assert_eq!(r.marks(), d.marks());
+    assert_eq!(r.breakpoints(), d.breakpoints());
+    let (a, b) = (d.trace(), r.trace());
+    assert_eq!(a.len(), b.len());
+    assert!(a.samples().eq(b.samples()), "the plot trace is identical");
+    // And the future replays identically from the loaded session.
+    let mut d = d;
+    let mut r = r;
+    for t in [d.furthest_tick(), 10, CHECKPOINT_EVERY] {
+        d.goto_tick(t);
+        r.goto_tick(t);
+        assert!(
+            d.machine_as::<SilverLode>() == r.machine_as::<SilverLode>(),
+            "tick {t}"
+        );
+    }
+    let _ = std::fs::remove_file(&path);
+}
+
+#[test]
+fn a_failed_save_leaves_the_old_file() {
+    let path = temp("keep.ron");
+    let old = Session::capture(&Debugger::new("old", "END"), None, ViewSettings::default());
+    old.save(&path).unwrap();
+    let before = std::fs::read(&path).unwrap();
+    // A directory where the temporary file goes makes the write fail half-way (even as root).
+    let blocker = path.with_file_name(".keep.ron.servoscope-tmp");
+    std::fs::create_dir_all(&blocker).unwrap();
+    let new = Session::capture(
+        &Debugger::new("new", "WRP 11, 1\nEND"),
+        None,
+        ViewSettings::default(),
+    );
+    assert!(matches!(new.save(&path), Err(SessionError::Write { .. })));
+    assert_eq!(
+        std::fs::read(&path).unwrap(),
+        before,
+        "the old session is untouched"
+    );
+    assert_eq!(Session::load(&path).unwrap(), old, "and still loads");
+    std::fs::remove_dir(&blocker).unwrap();
+    new.save(&path).unwrap();
+    assert_eq!(Session::load(&path).unwrap(), new, "a later save works");
+    let _ = std::fs::remove_file(&path);
+}
+
+/// The lesson sessions as shipped, and the format-1 files kept unchanged as fixtures: both
+/// must restore to the same moments.
+const SESSION_DIRS: [&str; 2] = ["sessions", "crates/core/tests/fixtures/format1"];
+
+fn example_in(dir: &str, name: &str) -> (Session, Debugger) {
+    let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .join(dir)
+        .join(name);
+    let s = Session::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let d = s.restore(name).unwrap_or_else(|e| panic!("{e}"));
+    (s, d)
+}
+
+#[test]
+fn every_example_session_is_tested() {
+    let mut names: Vec<String> = std::fs::read_dir(
+        Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("sessions"),
+    )
+    .unwrap()
+    .filter_map(|e| e.ok()?.file_name().into_string().ok())
+    .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        [
+            "dl205_bcd_stack_task.ron",
+            "dl205_subs_lesson.ron",
+            "dl205_timer_counter_task.ron",
+            "fifo_lifo_task.ron",
+            "fifo_queue_lesson.ron",
+            "fixed_point_lesson.ron",
+            "homing_on_input.ron",
+            "opennet_overflow_lesson.ron",
+            "opennet_overflow_task.ron",
+            "opennet_timer_counter_task.ron",
+            "q16_scaling_task.ron",
+            "tml_fixed_point_lesson.ron",
+            "tml_product_task.ron"
+        ]
+    );
+}
+
+/// The DL205 lesson opens on the SUBS with all eight stack levels full.
+#[test]
+fn dl205_lesson_opens_on_subs_with_the_stack_full() {
+    let (_, mut d) = example_in("sessions", "dl205_subs_lesson.ron");
+    let m = d
+        .machine_as::<servoscope_core::machine::dl205::Dl205>()
+        .expect("a DL205 machine");
+    assert_eq!(m.depth, 8);
+    assert_eq!(m.stack[0], 0x0017_2056);
+    assert_eq!(m.stack[7], 1);
+    assert_eq!(d.machine().pc_line(), Some(18), "SUBS is next");
+    assert!(d.breakpoints().contains(&18));
+    d.step_command();
+    let m = d
+        .machine_as::<servoscope_core::machine::dl205::Dl205>()
+        .unwrap();
+    assert_eq!((m.acc, m.depth), (0x0022_2970, 7));
+}
+
+/// The OpenNet lesson opens just after ADD(I) 30000 + 5000 overflowed: stored 0x08B8, M8003 on.
+#[test]
+fn opennet_lesson_opens_after_the_overflow() {
+    let (s, d) = example_in("sessions", "opennet_overflow_lesson.ron");
+    let m = d
+        .machine_as::<servoscope_core::machine::opennet::OpenNet>()
+        .expect("an OpenNet machine");
+    assert_eq!(m.pos(), servoscope_core::machine::Pos { tick: 0, step: 4 });
+    assert_eq!(m.d[2], 0x08B8);
+    assert!(m.special[servoscope_core::machine::opennet::M8003]);
+    assert_eq!(d.machine().last_line(), Some(6), "the ADD(I) just ran");
+    assert!(d.breakpoints().contains(&6));
+    assert_eq!(s.view.selected.as_deref(), Some("D2"));
+}
+
+/// The TML lesson opens just after the fixed × int multiply: PREG holds the 32.16 product and
+/// the next statement reads its integer part from PRODH.
+#[test]
+fn tml_lesson_opens_on_the_multiply() {
+    let (s, mut d) = example_in("sessions", "tml_fixed_point_lesson.ron");
+    let m = d
+        .machine_as::<servoscope_core::machine::tml::Tml>()
+        .expect("a TML machine");
+    assert_eq!(m.pos(), servoscope_core::machine::Pos { tick: 1, step: 3 });
+    assert_eq!(m.preg_signed(), 1_747_626 * 10, "speed × 10 as 32.16");
+    assert_eq!(m.last_multiply.map(|l| l.line), Some(31));
+    assert_eq!(d.machine().pc_line(), Some(32), "cpm = PRODH is next");
+    assert!(d.breakpoints().contains(&31));
+    assert_eq!(s.view.selected.as_deref(), Some("speed"));
+    d.step_command();
+    let cpm = d.machine().find("cpm").unwrap();
+    assert_eq!(d.machine().read(cpm), 266, "the integer part of 266.666");
+}
+
+#[test]
+fn format_1_fixtures_are_format_1() {
+    for name in [
+        "fifo_queue_lesson.ron",
+        "fixed_point_lesson.ron",
+        "homing_on_input.ron",
+    ] {
+        let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+            .join("crates/core/tests/fixtures/format1")
+            .join(name);
+        let text = std::fs::read_to_string(path).unwrap();
+        assert!(text.contains("format: 1,"), "{name} stays a format-1 file");
+    }
+}
+
+#[test]
+fn fixed_point_lesson_opens_on_the_multiply() {
+    for dir in SESSION_DIRS {
+        fixed_point_lesson(dir);
+    }
+}
+
+fn fixed_point_lesson(dir: &str) {
+    let (s, d) = example_in(dir, "fixed_point_lesson.ron");
+    assert_eq!(
+        d.machine().pc_line(),
+        Some(16),
+        "about to run MULT_S64_SHR16"
+    );
+    assert_eq!(sl(&d).reg(20), 40000);
+    assert!(d.breakpoints().contains(&16));
+    assert_eq!(s.view.selected.as_deref(), Some("R21"));
+    let mut d = d;
+    d.step_command();
+    assert_eq!(sl(&d).reg(21), 1016, "(40000 × 1665) >> 16");
+}
+
+#[test]
+fn fifo_queue_lesson_has_its_breakpoints() {
+    for dir in SESSION_DIRS {
+        fifo_queue_lesson(dir);
+    }
+}
+
+fn fifo_queue_lesson(dir: &str) {
+    let (_, mut d) = example_in(dir, "fifo_queue_lesson.ron");
+    assert_eq!(d.machine().ticks(), 0);
+    d.set_speed(Speed::Unlimited);
+    d.run();
+    while d.advance(0.016, Duration::from_secs(5)) {}
+    assert_eq!(d.machine().pc_line(), Some(19), "stops on the first pop");
+    let h = sl(&d).queues()[0].header.clone().unwrap();
+    assert_eq!(h.items, [1000, 2500, -500]);
+}
+
+#[test]
+fn homing_session_opens_stopped_on_the_sensor() {
+    for dir in SESSION_DIRS {
+        homing_session(dir);
+    }
+}
+
+fn homing_session(dir: &str) {
+    let (_, d) = example_in(dir, "homing_on_input.ron");
+    let m = sl(&d);
+    assert_eq!(m.ticks(), 3001);
+    assert_eq!(d.machine().read(io(2)), 1, "IO3 high");
+    assert!(m.isw() & 1 << 11 != 0, "input found");
+    // LAST_TRIG holds where the motor was when IO3 rose at tick 3000 (spec §5.5): the actual
+    // position of a straight run stopped at that tick.
+    let program = include_str!("../../../../assets/examples/homing.qsl");
+    let mut straight = common::load(program).expect("assembles");
+    straight.run_until(3000, |_| false);
+    assert_eq!(m.reg(4), straight.reg(1), "R4 = R1 when IO3 rose");
+    assert!(
+        m.reg(4) > 0 && m.reg(4) < 1_000_000,
+        "the search had started"
+    );
+    assert_eq!(m.run_state().label(), "waiting for move", "braking");
+    let mut d = d;
+    d.set_speed(Speed::Unlimited);
+    d.run();
+    while d.advance(0.016, Duration::from_secs(5)) {}
+    assert_eq!(
+        d.machine().pc_line(),
+        Some(13),
+        "the breakpoint on SUB_TARGET"
+    );
+    assert_ne!(d.machine().run_state(), RunState::Faulted);
+}
