@@ -498,7 +498,7 @@ fn check(args: &CheckArgs) -> Result<u8, String> {
             "status": report.status(),
             "ticks": done.machine().ticks(),
         });
-        servoscope_core::lesson::report_json(&lesson.title, &outcomes, &run.to_string()) + "\n"
+        servoscope_core::lesson::report_json(&lesson.title, &outcomes, run) + "\n"
     } else {
         let run = format!(
             "{name}: {} after {} {unit}",

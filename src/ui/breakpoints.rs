@@ -4,6 +4,7 @@
 //! watch it.
 
 use egui::RichText;
+use servoscope_core::debugger::Action;
 
 use super::Command;
 use super::theme::palette;
@@ -37,7 +38,7 @@ pub fn show(
         )
         .changed()
     {
-        out.push(Command::SetBreakOnError(on_error));
+        out.push(Command::Debug(Action::SetBreakOnError(on_error)));
     }
     ui.label(
         RichText::new("A fault always stops the run: the program cannot go on after it.")
@@ -114,7 +115,7 @@ fn row(ui: &mut egui::Ui, debugger: &Debugger, i: usize, b: &Breakpoint, out: &m
             egui::WidgetInfo::labeled(egui::Role::Button, true, format!("Delete breakpoint {n}"))
         });
         if delete.clicked() {
-            out.push(Command::RemoveBreakpoint(i));
+            out.push(Command::Debug(Action::RemoveBreakpoint(i)));
         }
     });
     ui.horizontal(|ui| {
@@ -157,7 +158,7 @@ fn row(ui: &mut egui::Ui, debugger: &Debugger, i: usize, b: &Breakpoint, out: &m
         ui.colored_label(p.error, format!("Inactive: {e}"));
     }
     if edited != *b {
-        out.push(Command::UpdateBreakpoint(i, edited));
+        out.push(Command::Debug(Action::UpdateBreakpoint(i, edited)));
     }
 }
 
@@ -270,7 +271,7 @@ pub fn force_items(
             None => forced.is_some(),
         };
         if applies && ui.button(text).clicked() {
-            out.push(Command::Force(loc, level));
+            out.push(Command::Debug(Action::Force(loc, level)));
             ui.close();
         }
     }

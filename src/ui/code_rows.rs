@@ -6,6 +6,7 @@
 
 use egui::text::LayoutJob;
 use egui::{Id, Rect, RichText, Sense, Stroke, TextStyle, Vec2, pos2, vec2};
+use servoscope_core::debugger::Action;
 
 use super::Command;
 use super::code::{CodeView, append_line, error_underlines};
@@ -128,7 +129,7 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
                 egui::WidgetInfo::selected(egui::Role::CheckBox, true, has_bp, &label)
             });
             if response.clicked() {
-                out.push(Command::ToggleBreakpoint(line));
+                out.push(Command::Debug(Action::ToggleBreakpoint(line)));
             }
             let dot = gutter.left_center() + vec2(row_height * 0.5, 0.0);
             if has_bp {

@@ -1,6 +1,7 @@
 //! Run controls: keyboard shortcuts, the menu bar and the toolbar. All emit [`Command`]s.
 
 use egui::{Key, KeyboardShortcut, Modifiers, RichText};
+use servoscope_core::debugger::Action;
 
 use super::code::CodeView;
 use super::layout::Pane;
@@ -47,24 +48,33 @@ pub fn shortcuts(
     // Most specific first: egui ignores an extra Shift when matching the plain keys.
     // A command needing the cursor's line is skipped (its key still consumed) without one.
     let table: [(&KeyboardShortcut, Option<Command>); 18] = [
-        (&RESET, Some(Command::Reset)),
-        (&STEP_BACK_INTO, Some(Command::StepBackCommand)),
-        (&STEP_BACK_OUT, Some(Command::StepBackOut)),
-        (&REVERSE, Some(Command::ReverseContinue)),
-        (&STEP_BACK, Some(Command::StepBackOver)),
-        (&STEP_OUT, Some(Command::StepOut)),
-        (&TICK_BACK, Some(Command::StepBackTick)),
+        (&RESET, Some(Command::Debug(Action::Reset))),
+        (
+            &STEP_BACK_INTO,
+            Some(Command::Debug(Action::StepBackCommand)),
+        ),
+        (&STEP_BACK_OUT, Some(Command::Debug(Action::StepBackOut))),
+        (&REVERSE, Some(Command::Debug(Action::ReverseContinue))),
+        (&STEP_BACK, Some(Command::Debug(Action::StepBackOver))),
+        (&STEP_OUT, Some(Command::Debug(Action::StepOut))),
+        (&TICK_BACK, Some(Command::Debug(Action::StepBackTick))),
         (&SAVE_AS, Some(Command::SaveSessionDialog)),
         (&SAVE, Some(Command::SaveSession)),
-        (&RUN_TO_CURSOR, target.map(Command::RunToLine)),
-        (&ASSEMBLE, Some(Command::Assemble)),
+        (
+            &RUN_TO_CURSOR,
+            target.map(|line| Action::RunToLine(line).into()),
+        ),
+        (&ASSEMBLE, Some(Command::Debug(Action::Assemble))),
         (&OPEN, Some(Command::OpenDialog)),
-        (&RUN, Some(Command::Run)),
-        (&PAUSE, Some(Command::Pause)),
-        (&STEP, Some(Command::StepOver)),
-        (&STEP_INTO, Some(Command::StepCommand)),
-        (&STEP_TICK, Some(Command::StepTick)),
-        (&TOGGLE_BREAKPOINT, target.map(Command::ToggleBreakpoint)),
+        (&RUN, Some(Command::Debug(Action::Run))),
+        (&PAUSE, Some(Command::Debug(Action::Pause))),
+        (&STEP, Some(Command::Debug(Action::StepOver))),
+        (&STEP_INTO, Some(Command::Debug(Action::StepCommand))),
+        (&STEP_TICK, Some(Command::Debug(Action::StepTick))),
+        (
+            &TOGGLE_BREAKPOINT,
+            target.map(|line| Action::ToggleBreakpoint(line).into()),
+        ),
     ];
     let help = ctx.input_mut(|i| {
         for (shortcut, command) in table {
@@ -233,36 +243,36 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
                 format!("Step back {}", words.tick),
             );
             let items: [(&str, &KeyboardShortcut, Option<Command>); 15] = [
-                ("Run / Continue", &RUN, Some(Command::Run)),
-                ("Pause", &PAUSE, Some(Command::Pause)),
-                (&step, &STEP, Some(Command::StepOver)),
-                (&into, &STEP_INTO, Some(Command::StepCommand)),
+                ("Run / Continue", &RUN, Some(Command::Debug(Action::Run))),
+                ("Pause", &PAUSE, Some(Command::Debug(Action::Pause))),
+                (&step, &STEP, Some(Command::Debug(Action::StepOver))),
+                (&into, &STEP_INTO, Some(Command::Debug(Action::StepCommand))),
                 (
                     "Step out (until the subroutine returns)",
                     &STEP_OUT,
-                    Some(Command::StepOut),
+                    Some(Command::Debug(Action::StepOut)),
                 ),
-                (&tick, &STEP_TICK, Some(Command::StepTick)),
-                ("Reverse continue", &REVERSE, Some(Command::ReverseContinue)),
-                (&step_back, &STEP_BACK, Some(Command::StepBackOver)),
-                (&back_into, &STEP_BACK_INTO, Some(Command::StepBackCommand)),
+                (&tick, &STEP_TICK, Some(Command::Debug(Action::StepTick))),
+                ("Reverse continue", &REVERSE, Some(Command::Debug(Action::ReverseContinue))),
+                (&step_back, &STEP_BACK, Some(Command::Debug(Action::StepBackOver))),
+                (&back_into, &STEP_BACK_INTO, Some(Command::Debug(Action::StepBackCommand))),
                 (
                     "Step back out (to the CALL)",
                     &STEP_BACK_OUT,
-                    Some(Command::StepBackOut),
+                    Some(Command::Debug(Action::StepBackOut)),
                 ),
-                (&tick_back, &TICK_BACK, Some(Command::StepBackTick)),
+                (&tick_back, &TICK_BACK, Some(Command::Debug(Action::StepBackTick))),
                 (
                     "Run to cursor",
                     &RUN_TO_CURSOR,
-                    target.map(Command::RunToLine),
+                    target.map(|line| Action::RunToLine(line).into()),
                 ),
-                ("Reset", &RESET, Some(Command::Reset)),
-                ("Assemble", &ASSEMBLE, Some(Command::Assemble)),
+                ("Reset", &RESET, Some(Command::Debug(Action::Reset))),
+                ("Assemble", &ASSEMBLE, Some(Command::Debug(Action::Assemble))),
                 (
                     "Toggle breakpoint",
                     &TOGGLE_BREAKPOINT,
-                    target.map(Command::ToggleBreakpoint),
+                    target.map(|line| Action::ToggleBreakpoint(line).into()),
                 ),
             ];
             for (label, shortcut, command) in items {
@@ -391,7 +401,7 @@ pub fn toolbar(
         let tip = |s: &KeyboardShortcut| shortcut_text(&ctx, s);
         if debugger.is_running() {
             if ui.button("Pause").on_hover_text(tip(&PAUSE)).clicked() {
-                out.push(Command::Pause);
+                out.push(Command::Debug(Action::Pause));
             }
         } else if ui
             .add_enabled(can_run, egui::Button::new("Run"))
@@ -401,7 +411,7 @@ pub fn toolbar(
             ))
             .clicked()
         {
-            out.push(Command::Run);
+            out.push(Command::Debug(Action::Run));
         }
         if ui
             .add_enabled(can_run, egui::Button::new("Step"))
@@ -413,7 +423,7 @@ pub fn toolbar(
             ))
             .clicked()
         {
-            out.push(Command::StepOver);
+            out.push(Command::Debug(Action::StepOver));
         }
         // Inside a subroutine: a way out of it, where the user sees it is one.
         if machine.call_depth() > 0
@@ -425,7 +435,7 @@ pub fn toolbar(
                 ))
                 .clicked()
         {
-            out.push(Command::StepOut);
+            out.push(Command::Debug(Action::StepOut));
         }
         let tick_button = super::timeline::capitalised(words.tick);
         if ui
@@ -438,14 +448,14 @@ pub fn toolbar(
             ))
             .clicked()
         {
-            out.push(Command::StepTick);
+            out.push(Command::Debug(Action::StepTick));
         }
         if ui
             .button("Reset")
             .on_hover_text(format!("Back to the start ({})", tip(&RESET)))
             .clicked()
         {
-            out.push(Command::Reset);
+            out.push(Command::Debug(Action::Reset));
         }
         if (debugger.is_edited() || debugger.has_errors())
             && ui
@@ -453,7 +463,7 @@ pub fn toolbar(
                 .on_hover_text(format!("Assemble the edited text ({})", tip(&ASSEMBLE)))
                 .clicked()
         {
-            out.push(Command::Assemble);
+            out.push(Command::Debug(Action::Assemble));
         }
         ui.separator();
         let speed = debugger.speed();
@@ -465,7 +475,7 @@ pub fn toolbar(
                         .selectable_label(preset == speed, preset.label(words.step, words.steps))
                         .clicked()
                     {
-                        out.push(Command::SetSpeed(preset));
+                        out.push(Command::Debug(Action::SetSpeed(preset)));
                     }
                 }
             });
@@ -497,7 +507,7 @@ pub fn toolbar(
             };
             let r = ui.add(button).on_hover_text(hint);
             if r.clicked() && forced.is_none() {
-                out.push(Command::SetInput(loc, !high));
+                out.push(Command::Debug(Action::SetInput(loc, !high)));
             }
         }
         let large = machine

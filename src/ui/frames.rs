@@ -24,13 +24,9 @@ pub fn run_slice(overhead: Duration) -> Duration {
 /// from the intervals measured (each moves the lead by an eighth of its difference to the
 /// target, within 0..[`MAX_LEAD`]). On an idle machine the lead is the wake-up delay (a few
 /// tenths of a millisecond); with another process busy on a core the scheduler delays frames
-/// more and the lead grows. Measured without a GPU on 2 cores with `yes` busy on one
-/// (`servoscope --frame-stats 400 benches/common/idiom.qsl` under Xvfb): frames asked for every
-/// 15 ms came every 15.2–18.2 ms (median; over 16 ms in about half the runs on a noisy host),
-/// with the lead every 14.4–14.9 ms, the simulation's rate the same within the noise; idle,
-/// 15.0 ms instead of 15.2–15.3. Aiming at a fixed 13.5 ms instead also kept frames under 16 ms
-/// but drew a tenth more frames on an idle machine, for up to 3–7 % less simulation. With a GPU, vsync
-/// paces frames anyway.
+/// more and the lead grows (a fixed earlier aim would draw more frames than needed on an idle
+/// machine, taking time from the simulation). With a GPU, vsync paces frames anyway. The
+/// measurements are in docs/figures.md.
 #[derive(Debug, Default)]
 pub struct FramePacer {
     last_started: Option<Instant>,

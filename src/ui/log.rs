@@ -7,6 +7,7 @@
 //! history or the filter changed, and only while the panel is shown.
 
 use egui::RichText;
+use servoscope_core::debugger::Action;
 
 use super::Command;
 use super::theme::palette;
@@ -191,7 +192,7 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut LogView, out: &mu
                                 .on_hover_text("Go there")
                                 .clicked()
                             {
-                                out.push(Command::GoTo(m.at));
+                                out.push(Command::Debug(Action::GoTo(m.at)));
                             }
                         }
                     });
@@ -289,7 +290,7 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut LogView, out: &mu
                 .on_hover_text(format!("Go to {tick} {} (after it ran)", r.at))
                 .clicked()
             {
-                out.push(Command::GoTo(r.at));
+                out.push(Command::Debug(Action::GoTo(r.at)));
             }
         }
     });

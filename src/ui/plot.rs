@@ -9,6 +9,7 @@
 
 use egui::{Color32, RichText};
 use egui_plot::{AxisHints, Legend, Line, Plot, PlotPoints, VLine};
+use servoscope_core::debugger::Action;
 
 use super::Command;
 use super::theme::{Palette, palette};
@@ -254,7 +255,7 @@ fn channel_editor(
             if group != c.group {
                 let mut next = chosen.clone();
                 next[i].group = group;
-                out.push(Command::SetChannels(next));
+                out.push(Command::Debug(Action::SetChannels(next)));
             }
             if ui
                 .small_button("Remove")
@@ -263,7 +264,7 @@ fn channel_editor(
             {
                 let mut next = chosen.clone();
                 next.remove(i);
-                out.push(Command::SetChannels(next));
+                out.push(Command::Debug(Action::SetChannels(next)));
             }
         });
     }
@@ -303,7 +304,7 @@ fn channel_editor(
                             .unwrap_or(0)
                             .min(PLOT_GROUPS - 1),
                     });
-                    out.push(Command::SetChannels(next));
+                    out.push(Command::Debug(Action::SetChannels(next)));
                     view.new_channel.clear();
                     None
                 }
@@ -597,7 +598,7 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut PlotView, out: &m
         // Clicking the plot selects that tick and goes there.
         let t = t.min(debugger.furthest_tick());
         view.selected_tick = Some(t);
-        out.push(Command::GoToTick(t));
+        out.push(Command::Debug(Action::GoToTick(t)));
     }
     let text = view
         .hovered_tick

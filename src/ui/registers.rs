@@ -2,6 +2,7 @@
 //! in the dialect's spaces with a display format per view or per location, a filter, and the
 //! bit grid of the selected location (any width, in 16-bit words) with in-place editing.
 
+use servoscope_core::debugger::Action;
 use std::collections::BTreeMap;
 
 use egui::{RichText, Sense, Stroke, Vec2, vec2};
@@ -231,7 +232,7 @@ fn flags(ui: &mut egui::Ui, debugger: &Debugger, out: &mut Vec<Command>) {
                     if on { "set" } else { "clear" }
                 ));
                 if r.clicked() {
-                    out.push(Command::SetBit(loc, bit, !on));
+                    out.push(Command::Debug(Action::SetBit(loc, bit, !on)));
                 }
             };
         let words: Vec<(Loc, LocInfo)> = locs
@@ -407,7 +408,7 @@ fn bit_grid(
                     ),
                 };
                 if resp.on_hover_text(tip).clicked() {
-                    out.push(Command::ToggleBit(loc, bit as u8));
+                    out.push(Command::Debug(Action::ToggleBit(loc, bit as u8)));
                     view.edit_error = None;
                 }
                 if bit % 4 == 0 && bit != low {
@@ -523,7 +524,7 @@ fn bit_grid(
         if ui.button("Set").clicked() || entered {
             match value::parse_in(&view.edit_text, width, format) {
                 Ok((v, _)) => {
-                    out.push(Command::SetValue(loc, v));
+                    out.push(Command::Debug(Action::SetValue(loc, v)));
                     view.edit_error = None;
                 }
                 Err(e) => view.edit_error = Some(e.to_string()),

@@ -2,6 +2,7 @@
 //! faults marked on it, the step-back controls and a "go to tick" field.
 
 use egui::{RichText, Stroke, vec2};
+use servoscope_core::debugger::Action;
 
 use super::Command;
 use super::theme::palette;
@@ -32,7 +33,7 @@ pub fn show(
             .on_hover_text("Back to the previous breakpoint hit (Shift+F5)")
             .clicked()
         {
-            out.push(Command::ReverseContinue);
+            out.push(Command::Debug(Action::ReverseContinue));
         }
         if ui
             .add_enabled(back_ok, egui::Button::new("Step back"))
@@ -42,7 +43,7 @@ pub fn show(
             ))
             .clicked()
         {
-            out.push(Command::StepBackOver);
+            out.push(Command::Debug(Action::StepBackOver));
         }
         if ui
             .add_enabled(
@@ -55,7 +56,7 @@ pub fn show(
             ))
             .clicked()
         {
-            out.push(Command::StepBackTick);
+            out.push(Command::Debug(Action::StepBackTick));
         }
         ui.label(
             RichText::new(format!("{now} / {furthest}"))
@@ -76,7 +77,7 @@ pub fn show(
             match view.goto_text.trim().replace('_', "").parse::<u64>() {
                 Ok(t) => {
                     view.goto_error = None;
-                    out.push(Command::GoToTick(t));
+                    out.push(Command::Debug(Action::GoToTick(t)));
                 }
                 Err(_) => {
                     view.goto_error = Some(format!(
@@ -108,7 +109,7 @@ pub fn show(
         egui::WidgetInfo::labeled(egui::Role::Slider, furthest > 0, "Timeline position")
     });
     if slider.changed() && tick != now {
-        out.push(Command::GoToTick(tick));
+        out.push(Command::Debug(Action::GoToTick(tick)));
     }
     // Marks over the slider's rail.
     let rail = slider.rect.shrink2(vec2(6.0, 0.0));

@@ -2,6 +2,7 @@
 //! evaluated at the current position; any of them can join the plot as a channel.
 
 use egui::RichText;
+use servoscope_core::debugger::Action;
 
 use super::Command;
 use super::theme::palette;
@@ -116,7 +117,7 @@ fn watch_row(ui: &mut egui::Ui, debugger: &Debugger, i: usize, w: &Watch, out: &
             egui::WidgetInfo::labeled(egui::Role::Button, true, format!("Delete watch {n}"))
         });
         if delete.clicked() {
-            out.push(Command::RemoveWatch(i));
+            out.push(Command::Debug(Action::RemoveWatch(i)));
         }
         match debugger.watch_value(i) {
             Ok(v) => {
@@ -140,6 +141,6 @@ fn watch_row(ui: &mut egui::Ui, debugger: &Debugger, i: usize, w: &Watch, out: &
     }
     ui.separator();
     if edited != *w {
-        out.push(Command::UpdateWatch(i, edited));
+        out.push(Command::Debug(Action::UpdateWatch(i, edited)));
     }
 }

@@ -2,6 +2,7 @@
 //! their accessible labels, clicked and typed into, and frames are stepped with `step`/
 //! `run_steps` (a running simulation keeps asking for repaints).
 
+use servoscope_core::debugger::Action;
 use std::time::{Duration, Instant};
 
 use egui::{Key, Modifiers};
@@ -1212,7 +1213,7 @@ fn break_on_error_stops_the_run_on_the_erring_scan() {
     let i0 = h.state().debugger.machine().find("I0").unwrap();
     h.state_mut().apply(
         &egui::Context::default(),
-        servoscope::ui::Command::SetInput(i0, true),
+        servoscope::ui::Command::Debug(Action::SetInput(i0, true)),
     );
     h.run_steps(4);
     let d = &h.state().debugger;

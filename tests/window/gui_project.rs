@@ -5,6 +5,7 @@
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use servoscope::ui::{Command, Prefs, ServoscopeApp};
+use servoscope_core::debugger::Action;
 use servoscope_core::machine::project::Project;
 
 const TOP: &str = concat!(
@@ -65,7 +66,7 @@ fn the_top_file_opens_the_whole_project_one_tab_per_file() {
     assert!(!h.state().debugger.has_errors());
     // The first step runs BEGIN; the next statement is in setup_interrupts.tml: its tab comes
     // forward.
-    apply(&mut h, Command::StepCommand);
+    apply(&mut h, Command::Debug(Action::StepCommand));
     assert_eq!(h.state().code.file, 1);
     // The user looks at another file: it stays while nothing runs; the next step brings the
     // statement about to run back into view.
@@ -74,13 +75,13 @@ fn the_top_file_opens_the_whole_project_one_tab_per_file() {
     assert_eq!(h.state().code.file, 5);
     h.run_steps(3);
     assert_eq!(h.state().code.file, 5, "nothing ran: the chosen tab stays");
-    apply(&mut h, Command::StepCommand);
+    apply(&mut h, Command::Debug(Action::StepCommand));
     assert_eq!(
         h.state().code.file,
         1,
         "a step shows setup_interrupts.tml:5 again"
     );
-    apply(&mut h, Command::StepCommand);
+    apply(&mut h, Command::Debug(Action::StepCommand));
     assert_eq!(
         h.state().code.file,
         2,
@@ -105,9 +106,11 @@ fn a_breakpoint_set_in_an_included_file_stops_there() {
     assert_eq!(h.state().debugger.breakpoints(), [line].into());
     apply(
         &mut h,
-        Command::SetSpeed(servoscope_core::debugger::Speed::Unlimited),
+        Command::Debug(Action::SetSpeed(
+            servoscope_core::debugger::Speed::Unlimited,
+        )),
     );
-    apply(&mut h, Command::Run);
+    apply(&mut h, Command::Debug(Action::Run));
     for _ in 0..200 {
         h.run_steps(1);
         if !h.state().debugger.is_running() {
@@ -149,7 +152,7 @@ fn editing_an_included_file_assembles_the_project_and_save_writes_the_changed_fi
     apply(&mut h, Command::EditFile(1, "a = 2;\n".into()));
     assert!(h.state().debugger.is_file_edited(1));
     assert!(h.state().program_modified());
-    apply(&mut h, Command::Assemble);
+    apply(&mut h, Command::Debug(Action::Assemble));
     assert!(!h.state().debugger.has_errors());
     assert_eq!(
         h.state().code.unsaved,
@@ -171,7 +174,7 @@ fn editing_an_included_file_assembles_the_project_and_save_writes_the_changed_fi
             "int a;\n#include \"part.tml\"\n#include \"extra.tml\"\nEND;\n".into(),
         ),
     );
-    apply(&mut h, Command::Assemble);
+    apply(&mut h, Command::Debug(Action::Assemble));
     assert!(
         !h.state().debugger.has_errors(),
         "{:?}",

@@ -3,6 +3,7 @@
 //! what hovering a Q16.16 literal tells.
 
 use crate::common;
+use servoscope_core::debugger::Action;
 
 use egui::Key;
 use egui_kittest::Harness;
@@ -70,7 +71,7 @@ fn a_lesson_opens_in_its_panel_and_check_shows_the_values_involved() {
     // The student fixes the program, runs it again and checks.
     let fixed = h.state().debugger.source().replace("CLC DEC, 21", "");
     apply(&mut h, Command::EditSource(fixed));
-    apply(&mut h, Command::Assemble);
+    apply(&mut h, Command::Debug(Action::Assemble));
     h.state_mut().debugger.goto_tick(100);
     h.run_steps(2);
     h.get_by_label_contains("the position has changed since");
@@ -85,7 +86,7 @@ fn reset_lesson_restores_the_lessons_program_and_position() {
     let mut h = harness(lesson_app("gui-reset.ron"));
     let start = h.state().debugger.source().to_string();
     apply(&mut h, Command::EditSource("        END\n".to_string()));
-    apply(&mut h, Command::Assemble);
+    apply(&mut h, Command::Debug(Action::Assemble));
     apply(&mut h, Command::LessonStep(1));
     h.get_by_label("Reset lesson").click();
     h.run_steps(2);
@@ -148,7 +149,7 @@ fn f1_opens_the_reference_at_the_instruction_about_to_run() {
     assert!(h.state().layout.is_shown(&Pane::Help));
     assert_eq!(h.state().help.selected.as_deref(), Some("WRP"));
     h.get_by_label("QuickSilver SilverLode reference");
-    apply(&mut h, Command::StepOver);
+    apply(&mut h, Command::Debug(Action::StepOver));
     h.key_press(Key::F1);
     h.run_steps(2);
     assert_eq!(h.state().help.selected.as_deref(), Some("CLC"));
@@ -232,7 +233,7 @@ fn the_product_panel_shows_the_multiply_about_to_run_and_then_the_last_one() {
     );
     let mut h = harness(app);
     let product = Pane::Dialect("Product".to_string());
-    apply(&mut h, Command::StepOver);
+    apply(&mut h, Command::Debug(Action::StepOver));
     apply(&mut h, Command::FocusPane(product.clone()));
     assert!(h.state().layout.is_shown(&product));
     h.get_by_label("About to run: line 2 — CLD MULT_S64_SHR16, R21, R20, 1665");
@@ -240,7 +241,7 @@ fn the_product_panel_shows_the_multiply_about_to_run_and_then_the_last_one() {
         "40000 × 0.0254058837890625 = 1016.2353515625 exact; stored 1016; error −0.023 %",
     );
     h.get_by_label_contains("0.2354 dropped by the shift");
-    apply(&mut h, Command::StepOver);
+    apply(&mut h, Command::Debug(Action::StepOver));
     h.get_by_label_contains("Last run (at tick ");
     h.get_by_label_contains("stored 1016");
 }
@@ -287,7 +288,7 @@ fn a_queue_used_as_a_stack_is_drawn_as_one_and_the_user_can_switch() {
     let mut h = harness(app);
     // Three pushes: 30 on top, then 20, then 10; one free slot.
     for _ in 0..4 {
-        apply(&mut h, Command::StepOver);
+        apply(&mut h, Command::Debug(Action::StepOver));
     }
     apply(
         &mut h,
@@ -347,18 +348,18 @@ fn the_lessons_inputs_meet_the_students_edited_program() {
         .source()
         .replace("CLC DEC, 21", "CLC INC, 21");
     apply(&mut h, Command::EditSource(edited));
-    apply(&mut h, Command::Assemble);
+    apply(&mut h, Command::Debug(Action::Assemble));
     assert_eq!(
         at_tick_5(h.state()),
         1,
         "still there after the student's edit"
     );
-    apply(&mut h, Command::Reset);
+    apply(&mut h, Command::Debug(Action::Reset));
     assert_eq!(at_tick_5(h.state()), 1, "and after a reset");
     // Without the lesson a new program starts with no inputs switched.
     apply(&mut h, Command::LoadExample(0));
     apply(&mut h, Command::DiscardAndContinue);
     assert!(h.state().lesson.is_none());
-    apply(&mut h, Command::Reset);
+    apply(&mut h, Command::Debug(Action::Reset));
     assert_eq!(at_tick_5(h.state()), 0);
 }

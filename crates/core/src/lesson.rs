@@ -15,6 +15,7 @@
 use std::fmt::Write as _;
 
 use serde::{Deserialize, Serialize};
+use serde_json::json;
 
 use crate::debugger::expr::Expr;
 use crate::machine::{Format, MachineView, value};
@@ -84,24 +85,19 @@ impl CheckOutcome {
 
     /// `{"step": 1, "expr": "…", "pass": false, "values": {"R21": 1015}}` (then `"error"` when
     /// the check could not be evaluated), fields in that order.
-    pub fn to_json(&self) -> String {
-        let text = |t: &str| serde_json::to_string(t).unwrap_or_else(|_| "\"\"".to_string());
-        let values: Vec<String> = self
-            .values
-            .iter()
-            .map(|(name, v)| format!("{}:{v}", text(name)))
+    pub fn to_json(&self) -> serde_json::Value {
+        let values: serde_json::Map<String, serde_json::Value> = (self.values.iter())
+            .map(|(name, v)| (name.clone(), json!(v)))
             .collect();
-        let mut out = format!(
-            "{{\"step\":{},\"expr\":{},\"pass\":{},\"values\":{{{}}}",
-            self.step,
-            text(&self.expr),
-            self.pass,
-            values.join(",")
-        );
+        let mut out = json!({
+            "step": self.step,
+            "expr": self.expr,
+            "pass": self.pass,
+            "values": values,
+        });
         if let Some(error) = &self.error {
-            let _ = write!(out, ",\"error\":{}", text(error));
+            out["error"] = json!(error);
         }
-        out.push('}');
         out
     }
 }
@@ -213,16 +209,18 @@ fn expected_side(text: &str, m: &dyn MachineView) -> Option<String> {
 }
 
 /// The report of `servoscope check` as one JSON object: `lesson`, `passed`, `failed`,
-/// `checks`, then `run` (`run_json`: the program, how its run stopped, its ticks).
-pub fn report_json(title: &str, outcomes: &[CheckOutcome], run_json: &str) -> String {
+/// `checks`, then `run` (the program, how its run stopped, its ticks).
+pub fn report_json(title: &str, outcomes: &[CheckOutcome], run: serde_json::Value) -> String {
     let passed = outcomes.iter().filter(|o| o.pass).count();
-    let checks: Vec<String> = outcomes.iter().map(CheckOutcome::to_json).collect();
-    format!(
-        "{{\"lesson\":{},\"passed\":{passed},\"failed\":{},\"checks\":[{}],\"run\":{run_json}}}",
-        serde_json::to_string(title).unwrap_or_else(|_| "\"\"".to_string()),
-        outcomes.len() - passed,
-        checks.join(",")
-    )
+    let checks: Vec<serde_json::Value> = outcomes.iter().map(CheckOutcome::to_json).collect();
+    json!({
+        "lesson": title,
+        "passed": passed,
+        "failed": outcomes.len() - passed,
+        "checks": checks,
+        "run": run,
+    })
+    .to_string()
 }
 
 /// The report of `servoscope check` as text: one line a check, then the totals.

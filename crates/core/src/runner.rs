@@ -5,11 +5,15 @@
 
 use std::fmt::Write as _;
 
+use serde_json::{Value, json};
+
 use crate::debugger::Engine;
 use crate::debugger::expr::Expr;
 use crate::debugger::history::{self, Change, UserEvent};
 use crate::machine::project::Project;
-use crate::machine::{Loc, Machine, MachineView, Pos, RunState, SpaceKind, StopReason, value};
+use crate::machine::{
+    JsonMap, Loc, Machine, MachineView, Pos, RunState, SpaceKind, StopReason, value,
+};
 use crate::registry::{AtLimit, Dialect};
 
 /// An input toggle: `input` flips when the tick counter equals `tick`, before that tick runs.
@@ -264,41 +268,31 @@ impl Report<'_> {
     pub fn to_json(&self) -> String {
         let m = self.machine;
         let fault = match (m.fault(), self.files()) {
-            (Some(f), Some(p)) => format!(
-                "{{\"kind\":{},\"message\":{},\"line\":{},\"file\":{}}}",
-                json_string(f.kind),
-                json_string(&f.message),
-                Project::split(f.line).1,
-                json_string(p.file_of(f.line))
-            ),
-            (f, _) => serde_json::to_string(&f).unwrap_or_else(|_| "null".to_string()),
+            (Some(f), Some(p)) => json!({
+                "kind": f.kind,
+                "message": f.message,
+                "line": Project::split(f.line).1,
+                "file": p.file_of(f.line),
+            }),
+            (f, _) => serde_json::to_value(f).unwrap_or(Value::Null),
         };
-        let fields = m.report_json();
-        let mut out = format!(
-            "{{\"dialect\":\"{}\",\"status\":\"{}\",\"ticks\":{},\"steps\":{},\"fault\":{fault}",
-            m.dialect(),
-            self.status(),
-            m.ticks(),
-            m.steps()
-        );
+        let mut out = JsonMap::new();
+        out.insert("dialect".into(), json!(m.dialect()));
+        out.insert("status".into(), json!(self.status().to_string()));
+        out.insert("ticks".into(), json!(m.ticks()));
+        out.insert("steps".into(), json!(m.steps()));
+        out.insert("fault".into(), fault);
         if let Some(b) = &self.broke {
-            let _ = write!(
-                out,
-                ",\"break\":{{\"expr\":{},\"tick\":{},\"step\":{},\"line\":{}{}}}",
-                json_string(&b.expr),
-                b.at.tick,
-                b.at.step,
-                b.line
-                    .map_or_else(|| "null".to_string(), |l| Project::split(l).1.to_string()),
-                file_field(self.files(), b.line)
-            );
+            let mut at = JsonMap::new();
+            at.insert("expr".into(), json!(b.expr));
+            at.insert("tick".into(), json!(b.at.tick));
+            at.insert("step".into(), json!(b.at.step));
+            at.insert("line".into(), json!(b.line.map(|l| Project::split(l).1)));
+            insert_file(&mut at, self.files(), b.line);
+            out.insert("break".into(), at.into());
         }
-        if !fields.is_empty() {
-            out.push(',');
-            out.push_str(&fields);
-        }
-        out.push('}');
-        out
+        m.report_json(&mut out);
+        Value::Object(out).to_string()
     }
 
     /// A summary for people: status, counters, fault, then the dialect's lines.
@@ -346,16 +340,11 @@ pub fn run_engine(engine: &dyn Engine, events: &[UserEvent], max_ticks: u64) -> 
     run
 }
 
-/// `,"file":"name"` for a line of a program of several files, else nothing.
-fn file_field(files: Option<&Project>, line: Option<usize>) -> String {
-    match (files, line) {
-        (Some(p), Some(l)) => format!(",\"file\":{}", json_string(p.file_of(l))),
-        _ => String::new(),
+/// The file of `line` as `"file"`, for a program of several files.
+fn insert_file(out: &mut JsonMap, files: Option<&Project>, line: Option<usize>) {
+    if let (Some(p), Some(l)) = (files, line) {
+        out.insert("file".into(), json!(p.file_of(l)));
     }
-}
-
-fn json_string(text: &str) -> String {
-    serde_json::to_string(text).unwrap_or_else(|_| "\"\"".to_string())
 }
 
 /// What the runner watches while it runs: `--trace` and `--break`.
@@ -402,32 +391,25 @@ fn trace_line(
             source.get(file)?.get(local.wrapping_sub(1))
         })
         .map_or("", |text| mnemonic(text));
-    let mut out = format!(
-        "{{\"n\":{n},\"tick\":{},\"step\":{},\"line\":{}{},\"mnemonic\":{},\"written\":{{",
-        started.tick,
-        started.step,
-        line.map_or_else(|| "null".to_string(), |l| Project::split(l).1.to_string()),
-        file_field(files, line),
-        json_string(word),
-    );
-    let mut first = true;
-    for loc in m.instruction_written() {
-        let Some(info) = m.info(loc) else { continue };
-        if !std::mem::take(&mut first) {
-            out.push(',');
-        }
-        let _ = write!(
-            out,
-            "{}:{}",
-            json_string(&info.name),
-            crate::machine::value_of(m, loc)
-        );
-    }
-    out.push_str("},\"explain\":");
+    let mut out = JsonMap::new();
+    out.insert("n".into(), json!(n));
+    out.insert("tick".into(), json!(started.tick));
+    out.insert("step".into(), json!(started.step));
+    out.insert("line".into(), json!(line.map(|l| Project::split(l).1)));
+    insert_file(&mut out, files, line);
+    out.insert("mnemonic".into(), json!(word));
+    let written: JsonMap = (m.instruction_written().into_iter())
+        .filter_map(|loc| Some((m.info(loc)?.name, json!(crate::machine::value_of(m, loc)))))
+        .collect();
+    out.insert("written".into(), written.into());
     // The status bar's words for the step, overflow and carry notes included.
-    out.push_str(&json_string(&m.explain_last().unwrap_or_default()));
-    out.push_str("}\n");
-    out
+    out.insert(
+        "explain".into(),
+        json!(m.explain_last().unwrap_or_default()),
+    );
+    let mut text = Value::Object(out).to_string();
+    text.push('\n');
+    text
 }
 
 /// Run `engine`'s program from its start like [`run_engine`], writing the `--trace` and

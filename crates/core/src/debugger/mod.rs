@@ -9,6 +9,7 @@
 //! [`Debugger::advance`] once per frame with a time budget, so a run never blocks a frame; a run
 //! at unlimited speed goes on between frames on a worker thread ([`Debugger::hand_off`]).
 
+pub mod action;
 pub mod breakpoints;
 pub mod dialect;
 pub mod engine;
@@ -24,6 +25,7 @@ mod worker;
 use std::cell::RefCell;
 use std::collections::BTreeSet;
 
+pub use action::Action;
 pub use breakpoints::{BreakError, BreakKind, Breakpoint, DataTrigger, LogMessage};
 pub use engine::{Engine, StopWhen, engine};
 pub use lines::remap_lines;

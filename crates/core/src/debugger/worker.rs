@@ -54,15 +54,8 @@ impl Worker {
         let thread = std::thread::Builder::new()
             .name("simulation".into())
             // At the window's own priority: a lower one starves the run as soon as another
-            // process wants a core (the scheduler then puts it beside that process). Measured on
-            // 2 cores without a GPU under Xvfb, `servoscope --frame-stats 300
-            // benches/common/idiom.qsl` with `yes` on one core, nice 19 → 5 → 2 → 0: the run
-            // 68 → 103 → 165 → 200–211 M ticks/s, frame median 21.5 → 15.5 → 17.7 → 20–22 ms
-            // (software rendering took about a core at 60 frames/s; with a GPU it costs little).
-            // With frames a third cheaper (the panels no longer fill their background), nice
-            // 0 → 2 → 4: 220–280 → 185 → 160 M ticks/s, frames 20–24 → 17.3 → 16.1 ms; with
-            // fewer meshes and the kept heap, nice 0 → 1 → 2 → 3: 181–192 → 166–184 → 155–161
-            // → 142–172 M, frames 19.3–20.3 → 16.1–18.7 → 16.1–16.3 → 15.4–16.0 ms.
+            // process wants a core (the scheduler then puts it beside that process), for
+            // frames hardly steadier (measured at several nice levels: docs/figures.md).
             .spawn(move || {
                 // Ticks a chunk runs, adapted to the machine's speed and kept between jobs.
                 let mut chunk = 1_000;

@@ -33,6 +33,9 @@ use std::any::Any;
 pub use diagnostics::{Diagnostic, Severity};
 pub use value::Format;
 
+/// A JSON object whose keys keep the order they were inserted in (the runner's reports).
+pub type JsonMap = serde_json::Map<String, serde_json::Value>;
+
 /// A moment of a run: the tick counter and the instructions executed so far inside that tick.
 #[derive(
     Clone,
@@ -343,9 +346,9 @@ pub trait MachineView: Send + 'static {
     /// 1-based line of the last executed instruction.
     fn last_line(&self) -> Option<usize>;
 
-    /// The dialect's fields of the runner's JSON object, after the common header: a fragment
-    /// like `"registers":{...},"isw":0` (no surrounding braces, no leading comma).
-    fn report_json(&self) -> String;
+    /// Add the dialect's fields to the runner's JSON object, after the common header
+    /// (`registers`, flags, …), in the order the runner prints them.
+    fn report_json(&self, out: &mut JsonMap);
     /// The dialect's lines of the runner's text report.
     fn report_text(&self) -> String;
 

@@ -180,9 +180,7 @@ impl MachineView for Scanned {
     fn last_line(&self) -> Option<usize> {
         self.last.map(|i| i + 1)
     }
-    fn report_json(&self) -> String {
-        String::new()
-    }
+    fn report_json(&self, _: &mut servoscope_core::machine::JsonMap) {}
     fn report_text(&self) -> String {
         String::new()
     }

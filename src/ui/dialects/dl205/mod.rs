@@ -2,6 +2,7 @@
 //! rung's power flow.
 
 use egui::{Color32, RichText};
+use servoscope_core::debugger::Action;
 
 use crate::ui::Command;
 use crate::ui::panels::DialectPanel;
@@ -334,7 +335,7 @@ impl DialectPanel for StagesPanel {
                                         .on_hover_text("Go back to just after that instruction")
                                         .clicked()
                                     {
-                                        out.push(Command::GoTo(change.at));
+                                        out.push(Command::Debug(Action::GoTo(change.at)));
                                     }
                                 }
                                 None => {

@@ -2,6 +2,7 @@
 //! areas in groups of eight, and the logic state with the error lamp.
 
 use egui::{Color32, RichText, vec2};
+use servoscope_core::debugger::Action;
 
 use crate::ui::Command;
 use crate::ui::panels::DialectPanel;
@@ -210,7 +211,10 @@ impl DialectPanel for LogicPanel {
                         .on_hover_text("Set M8004 to 0 (the error count and record stay)")
                         .clicked()
                     {
-                        out.push(Command::SetValue(Loc::new(SPECIAL_SPACE, M8004 as u32), 0));
+                        out.push(Command::Debug(Action::SetValue(
+                            Loc::new(SPECIAL_SPACE, M8004 as u32),
+                            0,
+                        )));
                     }
                     let mut stop = debugger.break_on_error();
                     if ui
@@ -218,7 +222,7 @@ impl DialectPanel for LogicPanel {
                         .on_hover_text("Stop a run when M8004 turns on")
                         .changed()
                     {
-                        out.push(Command::SetBreakOnError(stop));
+                        out.push(Command::Debug(Action::SetBreakOnError(stop)));
                     }
                 });
                 ui.label(format!("errors: {}", m.error_count));

@@ -4,6 +4,7 @@
 //! a right-click, and the list of forces with Release all.
 
 use egui::{Align2, Color32, FontId, Rect, RichText, Sense, Stroke, vec2};
+use servoscope_core::debugger::Action;
 
 use crate::ui::Command;
 use crate::ui::panels::DialectPanel;
@@ -83,7 +84,7 @@ impl DialectPanel for IoBoard {
                 ui.horizontal(|ui| {
                     ui.label(RichText::new(format!("Forces: {}", forces.len())).strong());
                     if !forces.is_empty() && ui.button("Release all").clicked() {
-                        out.push(Command::ReleaseAllForces);
+                        out.push(Command::Debug(Action::ReleaseAllForces));
                     }
                     for &(loc, on) in &forces {
                         let name = m.info(loc).map_or_else(String::new, |i| i.name);
@@ -96,7 +97,7 @@ impl DialectPanel for IoBoard {
                             .on_hover_text(format!("{name} follows the program again"))
                             .clicked()
                         {
-                            out.push(Command::Force(loc, None));
+                            out.push(Command::Debug(Action::Force(loc, None)));
                         }
                     }
                     if forces.is_empty() {
@@ -250,7 +251,7 @@ fn lamp(
     let response = response.on_hover_text(format!("{} is {state}{force_text}: {hint}", info.name));
     // A forced input's switch is refused: a click does nothing (the hover says why).
     if input && forced.is_none() && response.clicked() {
-        out.push(Command::SetInput(loc, !on));
+        out.push(Command::Debug(Action::SetInput(loc, !on)));
     }
     if !input && response.clicked() {
         out.push(Command::SelectLocation(loc));

@@ -7,6 +7,7 @@
 //! rung's left rail: a breakpoint on its first line. Hover: the value in every format.
 //! Right-click a bit: force it, or release it.
 
+use servoscope_core::debugger::Action;
 use std::sync::Arc;
 
 use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Stroke, pos2, vec2};
@@ -321,7 +322,7 @@ impl RungDrawing<'_> {
             rung.first_line()
         ));
         if rail_response.clicked() {
-            out.push(Command::ToggleBreakpoint(rung.first_line()));
+            out.push(Command::Debug(Action::ToggleBreakpoint(rung.first_line())));
         }
         painter.line_segment(
             [pos2(rail_x, top), pos2(rail_x, top + height)],

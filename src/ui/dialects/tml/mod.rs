@@ -3,6 +3,7 @@
 //! event and WAIT!, error bits).
 
 use egui::{Color32, RichText, Sense, Stroke, vec2};
+use servoscope_core::debugger::Action;
 
 use crate::ui::Command;
 use crate::ui::panels::DialectPanel;
@@ -369,7 +370,7 @@ impl DialectPanel for DrivePanel {
                         if r.clicked()
                             && let Some(loc) = m.find(&format!("IN#{n}"))
                         {
-                            out.push(Command::SetInput(loc, !high));
+                            out.push(Command::Debug(Action::SetInput(loc, !high)));
                         }
                     }
                 });

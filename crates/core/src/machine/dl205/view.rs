@@ -1,6 +1,10 @@
 //! DL205's face for the debugger and the runner (spec §3, §8).
 
 use std::any::Any;
+
+use serde_json::json;
+
+use crate::machine::JsonMap;
 use std::fmt::Write;
 
 use crate::machine::PlcView;
@@ -550,27 +554,19 @@ impl MachineView for Dl205 {
     fn error_lamp(&self) -> bool {
         self.sp[super::program::sp::SP53] || self.sp[super::program::sp::SP75]
     }
-    fn report_json(&self) -> String {
-        let mut regs = vec![format!("\"ACC\":{}", self.acc)];
-        regs.extend(
-            self.stack
-                .iter()
-                .enumerate()
-                .map(|(i, v)| format!("\"L{}\":{v}", i + 1)),
-        );
-        regs.extend(
-            self.v
-                .iter()
-                .enumerate()
-                .filter(|(_, v)| **v != 0)
-                .map(|(i, v)| format!("\"V{i:o}\":{v}")),
-        );
-        let flags: Vec<String> = SPECIAL
-            .iter()
-            .enumerate()
-            .map(|(i, n)| format!("\"SP{n:o}\":{}", u8::from(self.sp[i])))
+    fn report_json(&self, out: &mut JsonMap) {
+        let mut registers = JsonMap::new();
+        registers.insert("ACC".into(), json!(self.acc));
+        for (i, v) in self.stack.iter().enumerate() {
+            registers.insert(format!("L{}", i + 1), json!(v));
+        }
+        for (i, v) in self.v.iter().enumerate().filter(|(_, v)| **v != 0) {
+            registers.insert(format!("V{i:o}"), json!(v));
+        }
+        let flags: JsonMap = (SPECIAL.iter().enumerate())
+            .map(|(i, n)| (format!("SP{n:o}"), json!(u8::from(self.sp[i]))))
             .collect();
-        let mut bits = Vec::new();
+        let mut bits = JsonMap::new();
         for (kind, values) in [
             (Kind::X, &self.x_image),
             (Kind::Y, &self.y),
@@ -580,18 +576,15 @@ impl MachineView for Dl205 {
             (Kind::Ct, &self.ct),
         ] {
             for (i, _) in values.iter().enumerate().filter(|(_, b)| **b) {
-                bits.push(format!("\"{}\":1", bit_name(Bit { kind, n: i as u32 })));
+                bits.insert(bit_name(Bit { kind, n: i as u32 }), json!(1));
             }
         }
-        format!(
-            "\"scan_ms\":{},\"time_ms\":{},\"registers\":{{{}}},\"flags\":{{{}}},\"bits\":{{{}}},\"stack_depth\":{}",
-            self.time.scan_ms,
-            self.time.time_ms(self.tick),
-            regs.join(","),
-            flags.join(","),
-            bits.join(","),
-            self.depth
-        )
+        out.insert("scan_ms".into(), json!(self.time.scan_ms));
+        out.insert("time_ms".into(), json!(self.time.time_ms(self.tick)));
+        out.insert("registers".into(), registers.into());
+        out.insert("flags".into(), flags.into());
+        out.insert("bits".into(), bits.into());
+        out.insert("stack_depth".into(), json!(self.depth));
     }
     fn report_text(&self) -> String {
         let mut out = String::new();

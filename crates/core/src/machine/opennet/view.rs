@@ -1,6 +1,10 @@
 //! OpenNet's face for the debugger and the runner (spec §2, §9).
 
 use std::any::Any;
+
+use serde_json::json;
+
+use crate::machine::JsonMap;
 use std::fmt::Write;
 
 use crate::machine::PlcView;
@@ -615,13 +619,10 @@ impl MachineView for OpenNet {
     fn error_lamp(&self) -> bool {
         self.special[M8004]
     }
-    fn report_json(&self) -> String {
-        let regs: Vec<String> = self
-            .d
-            .iter()
-            .enumerate()
+    fn report_json(&self, out: &mut JsonMap) {
+        let registers: JsonMap = (self.d.iter().enumerate())
             .filter(|(_, v)| **v != 0)
-            .map(|(i, v)| format!("\"D{i}\":{v}"))
+            .map(|(i, v)| (format!("D{i}"), json!(v)))
             .collect();
         // The five relays always; M8123 and M8125 when the program names them. The clocks as
         // the last scan saw them; nothing before a scan has run.
@@ -631,16 +632,14 @@ impl MachineView for OpenNet {
                 _ => false,
             })
         };
-        let flags: Vec<String> = SPECIAL
-            .iter()
-            .enumerate()
+        let flags: JsonMap = (SPECIAL.iter().enumerate())
             .filter(|&(i, _)| i < 5 || named(i))
             .map(|(i, n)| {
                 let on = self.special[i] && (i < 2 || self.tick > 0);
-                format!("\"M{n}\":{}", u8::from(on))
+                (format!("M{n}"), json!(u8::from(on)))
             })
             .collect();
-        let mut bits = Vec::new();
+        let mut bits = JsonMap::new();
         for (area, values) in [
             (Area::I, &self.input_image),
             (Area::Q, &self.q),
@@ -648,20 +647,18 @@ impl MachineView for OpenNet {
             (Area::R, &self.r),
         ] {
             for (i, _) in values.iter().enumerate().filter(|(_, b)| **b) {
-                bits.push(format!("\"{}\":1", point_name(area, i as u32)));
+                bits.insert(point_name(area, i as u32), json!(1));
             }
         }
         let boxes = |list: &[u32], letter: char, get: &dyn Fn(usize) -> (u16, u16, bool)| {
-            list.iter()
+            (list.iter())
                 .map(|&n| {
                     let (preset, current, output) = get(n as usize);
-                    format!(
-                        "\"{letter}{n}\":{{\"preset\":{preset},\"current\":{current},\"output\":{}}}",
-                        u8::from(output)
-                    )
+                    let state =
+                        json!({"preset": preset, "current": current, "output": u8::from(output)});
+                    (format!("{letter}{n}"), state)
                 })
-                .collect::<Vec<_>>()
-                .join(",")
+                .collect::<JsonMap>()
         };
         let timers = boxes(&self.program.used_timers, 'T', &|n| {
             let t = self.timers[n];
@@ -671,21 +668,18 @@ impl MachineView for OpenNet {
             let c = self.counters[n];
             (c.preset, c.current, c.output)
         });
-        let last = match self.last_error {
-            None => "null".to_string(),
-            Some(e) => format!(
-                "{{\"kind\":\"{}\",\"line\":{},\"tick\":{}}}",
-                e.kind, e.line, e.tick
-            ),
-        };
-        format!(
-            "\"registers\":{{{}}},\"flags\":{{{}}},\"bits\":{{{}}},\"timers\":{{{timers}}},\"counters\":{{{counters}}},\"settings\":{{\"scan_ms\":{}}},\"error_count\":{},\"last_error\":{last}",
-            regs.join(","),
-            flags.join(","),
-            bits.join(","),
-            self.time.scan_ms,
-            self.error_count
-        )
+        let last = self.last_error.map_or(
+            serde_json::Value::Null,
+            |e| json!({"kind": e.kind.to_string(), "line": e.line, "tick": e.tick}),
+        );
+        out.insert("registers".into(), registers.into());
+        out.insert("flags".into(), flags.into());
+        out.insert("bits".into(), bits.into());
+        out.insert("timers".into(), timers.into());
+        out.insert("counters".into(), counters.into());
+        out.insert("settings".into(), json!({"scan_ms": self.time.scan_ms}));
+        out.insert("error_count".into(), json!(self.error_count));
+        out.insert("last_error".into(), last);
     }
     fn report_text(&self) -> String {
         let mut out = String::new();

@@ -2,6 +2,10 @@
 //! the status words, the three inputs), its queues decoded, and its runner report (spec §8).
 
 use std::any::Any;
+
+use serde_json::{Value, json};
+
+use crate::machine::JsonMap;
 use std::fmt::Write as _;
 use std::sync::Arc;
 
@@ -460,42 +464,29 @@ impl MachineView for SilverLode {
     fn error_lamp(&self) -> bool {
         self.psw() >> 12 & 1 == 1
     }
-    fn report_json(&self) -> String {
-        let mut out = String::from("\"registers\":{");
-        for (i, v) in self.regs().iter().enumerate() {
-            if i > 0 {
-                out.push(',');
-            }
-            let _ = write!(out, "\"{i}\":{v}");
-        }
-        let _ = write!(
-            out,
-            "}},\"isw\":{},\"psw\":{},\"queues\":[",
-            self.isw(),
-            self.psw()
-        );
-        let queues: Vec<String> = self
-            .queues()
-            .into_iter()
+    fn report_json(&self, out: &mut JsonMap) {
+        let registers: JsonMap = (self.regs().iter().enumerate())
+            .map(|(i, v)| (i.to_string(), json!(v)))
+            .collect();
+        out.insert("registers".into(), registers.into());
+        out.insert("isw".into(), json!(self.isw()));
+        out.insert("psw".into(), json!(self.psw()));
+        // A header the program overwrote is not a queue any more; the runner lists only queues
+        // it can decode.
+        let queues: Vec<Value> = (self.queues().into_iter())
             .filter_map(|q| {
-                // A header the program overwrote is not a queue any more; the runner lists
-                // only queues it can decode.
                 let h = q.header?;
-                let items: Vec<String> = h.items.iter().map(i32::to_string).collect();
-                Some(format!(
-                    "{{\"base\":{},\"size\":{},\"len\":{},\"head\":{},\"tail\":{},\"items\":[{}]}}",
-                    q.base,
-                    h.size,
-                    h.len,
-                    h.head,
-                    h.tail,
-                    items.join(",")
-                ))
+                Some(json!({
+                    "base": q.base,
+                    "size": h.size,
+                    "len": h.len,
+                    "head": h.head,
+                    "tail": h.tail,
+                    "items": h.items,
+                }))
             })
             .collect();
-        out.push_str(&queues.join(","));
-        out.push(']');
-        out
+        out.insert("queues".into(), queues.into());
     }
     fn report_text(&self) -> String {
         let mut out = String::new();

@@ -2,6 +2,10 @@
 //! spec §9.
 
 use std::any::Any;
+
+use serde_json::{Value, json};
+
+use crate::machine::JsonMap;
 use std::fmt::Write;
 
 use super::program::{Data, Op, Operand, Ty};
@@ -176,44 +180,34 @@ impl Tml {
         &self.program.vars[v].name
     }
 
-    /// The call stack's lines for the runner, and `,"stack_files":[…]` when the program has
-    /// several files (spec §9).
-    fn stack_json(&self) -> (Vec<String>, String) {
+    /// The call stack's lines, and for a program of several files each line's file.
+    fn stack_json(&self, out: &mut JsonMap) {
         let lines = self.call_stack_lines();
         let split = crate::machine::project::Project::split;
         if self.program.files.is_empty() {
-            return (
-                lines.iter().map(ToString::to_string).collect(),
-                String::new(),
-            );
+            out.insert("stack".into(), json!(lines));
+            return;
         }
-        let names: Vec<String> = lines
-            .iter()
+        let local: Vec<usize> = lines.iter().map(|&l| split(l).1).collect();
+        let names: Vec<&str> = (lines.iter())
             .map(|&l| {
-                let name = self
-                    .program
+                self.program
                     .files
                     .get(split(l).0)
-                    .map_or("", String::as_str);
-                serde_json::to_string(name).unwrap_or_default()
+                    .map_or("", String::as_str)
             })
             .collect();
-        (
-            lines.iter().map(|&l| split(l).1.to_string()).collect(),
-            format!(",\"stack_files\":[{}]", names.join(",")),
-        )
+        out.insert("stack".into(), json!(local));
+        out.insert("stack_files".into(), json!(names));
     }
 
-    fn event_json(&self) -> String {
+    fn event_json(&self) -> Value {
         match self.event {
-            None => "null".into(),
-            Some(Event::MotionComplete) => r#"{"kind":"MC"}"#.into(),
-            Some(Event::Time { after, .. }) => format!(r#"{{"kind":"RT","value":{after}}}"#),
+            None => Value::Null,
+            Some(Event::MotionComplete) => json!({"kind": "MC"}),
+            Some(Event::Time { after, .. }) => json!({"kind": "RT", "value": after}),
             Some(Event::Input { input, level }) => {
-                format!(
-                    r#"{{"kind":"IN","input":{input},"level":{}}}"#,
-                    u8::from(level)
-                )
+                json!({"kind": "IN", "input": input, "level": u8::from(level)})
             }
         }
     }
@@ -506,44 +500,43 @@ impl MachineView for Tml {
     fn error_lamp(&self) -> bool {
         self.data[d::MER as usize] != 0
     }
-    fn report_json(&self) -> String {
+    fn report_json(&self, out: &mut JsonMap) {
         // Table A always; table B only what the program names (spec §9).
-        let mut regs: Vec<String> = PREDEFINED
-            .iter()
-            .enumerate()
+        let mut registers: JsonMap = (PREDEFINED.iter().enumerate())
             .filter(|(i, p)| !p.table_b || self.program.used.contains(&(*i as u8)))
-            .map(|(i, p)| format!("\"{}\":{}", p.name, self.report_value(i as u8)))
+            .map(|(i, p)| (p.name.to_string(), json!(self.report_value(i as u8))))
             .collect();
-        regs.push(format!("\"PREG\":{}", self.preg_signed()));
+        registers.insert("PREG".into(), json!(self.preg_signed()));
         for (i, v) in self.program.vars.iter().enumerate() {
-            regs.push(format!(
-                "{}:{}",
-                serde_json::to_string(&v.name).unwrap_or_default(),
-                self.var_value(i)
-            ));
+            registers.insert(v.name.clone(), json!(self.var_value(i)));
         }
         let srl = self.data[d::SRL as usize];
-        let mut flags = vec![
-            format!("\"MC\":{}", u8::from(srl & srl::MOTION_COMPLETE != 0)),
-            format!("\"EVENT\":{}", u8::from(srl & srl::EVENT != 0)),
-            format!("\"AXISON\":{}", u8::from(srl & srl::AXIS_ON != 0)),
-        ];
-        flags.extend((0..INPUTS).map(|n| format!("\"IN#{n}\":{}", u8::from(self.input(n)))));
-        let (stack, stack_files) = self.stack_json();
+        let mut flags = JsonMap::new();
+        flags.insert(
+            "MC".into(),
+            json!(u8::from(srl & srl::MOTION_COMPLETE != 0)),
+        );
+        flags.insert("EVENT".into(), json!(u8::from(srl & srl::EVENT != 0)));
+        flags.insert("AXISON".into(), json!(u8::from(srl & srl::AXIS_ON != 0)));
+        for n in 0..INPUTS {
+            flags.insert(format!("IN#{n}"), json!(u8::from(self.input(n))));
+        }
+        out.insert("registers".into(), registers.into());
+        out.insert("flags".into(), flags.into());
+        self.stack_json(out);
+        out.insert("event".into(), self.event_json());
         let p = &self.profile;
-        format!(
-            "\"registers\":{{{}}},\"flags\":{{{}}},\"stack\":[{}]{stack_files},\"event\":{},\"motion\":{{\"mode\":{},\"relative\":{},\"tum\":{},\"active\":{},\"stopping\":{},\"end\":{}}}",
-            regs.join(","),
-            flags.join(","),
-            stack.join(","),
-            self.event_json(),
-            if self.mode_pp { "\"PP\"" } else { "null" },
-            u8::from(self.relative),
-            u8::from(self.tum1),
-            u8::from(p.active),
-            u8::from(p.stopping),
-            p.end
-        )
+        out.insert(
+            "motion".into(),
+            json!({
+                "mode": self.mode_pp.then_some("PP"),
+                "relative": u8::from(self.relative),
+                "tum": u8::from(self.tum1),
+                "active": u8::from(p.active),
+                "stopping": u8::from(p.stopping),
+                "end": p.end,
+            }),
+        );
     }
     fn report_text(&self) -> String {
         let mut out = String::new();

@@ -1,0 +1,40 @@
+//! Preferences kept between runs by eframe's storage.
+
+use super::*;
+
+/// Preferences kept between runs by eframe's storage (never the program state).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Prefs {
+    pub dark: bool,
+    pub recent: Vec<PathBuf>,
+    pub speed: Speed,
+    /// The register view's format per dialect, where the user chose one for every location.
+    pub register_formats: BTreeMap<String, Format>,
+    pub only_used_registers: bool,
+    /// The panel layout as the user left it; `None` for the default.
+    #[serde(with = "layout::as_text")]
+    pub layout: Option<layout::Layout>,
+    /// The titles of the panels the build had when `layout` was saved: a panel added since
+    /// then joins a saved layout once, while one the user closed stays closed. Plain text, so
+    /// a damaged entry costs nothing.
+    #[serde(default = "layout::panes_before_debugger_panels")]
+    pub known_panes: Vec<String>,
+}
+
+impl Default for Prefs {
+    fn default() -> Self {
+        Prefs {
+            dark: true,
+            recent: Vec::new(),
+            speed: Speed::PerSecond(10.0),
+            register_formats: BTreeMap::new(),
+            only_used_registers: true,
+            layout: None,
+            known_panes: layout::Pane::common_titles(),
+        }
+    }
+}
+
+pub const PREFS_KEY: &str = "servoscope-prefs";
+pub(super) const MAX_RECENT: usize = 10;
