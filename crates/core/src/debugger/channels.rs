@@ -1,0 +1,100 @@
+//! The plot channels: the user's choice by location name (or watch expression), resolved
+//! against each assembled program; choosing them rebuilds the trace.
+
+use super::history::Mark;
+use super::trace::{self, Channel, MAX_CHANNELS};
+use super::{Debugger, Dialect, StopWhen, expr, run_into_stop};
+use crate::machine::{Format, Loc, MachineView};
+
+/// A plot channel as the user chose it: a location name, a legend and a plot group.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct ChannelChoice {
+    pub location: String,
+    #[serde(default)]
+    pub label: String,
+    #[serde(default)]
+    pub group: u8,
+}
+
+impl ChannelChoice {
+    pub fn defaults(dialect: &Dialect) -> Vec<ChannelChoice> {
+        dialect
+            .default_channels
+            .iter()
+            .map(|c| ChannelChoice {
+                location: c.location.to_string(),
+                label: c.label.to_string(),
+                group: c.group,
+            })
+            .collect()
+    }
+}
+
+impl Debugger {
+    pub(super) fn resolve_channels(&self, m: &dyn MachineView) -> Vec<Channel> {
+        self.channel_names
+            .iter()
+            .filter_map(|c| {
+                let label = |name: &str| {
+                    if c.label.is_empty() {
+                        name.to_string()
+                    } else {
+                        c.label.clone()
+                    }
+                };
+                if let Some(loc) = m.find(&c.location) {
+                    let info = m.info(loc)?;
+                    let reading = info.reading();
+                    return Some(Channel {
+                        loc,
+                        label: label(&info.name),
+                        name: info.name,
+                        width: info.width,
+                        // A word its dialect reads as signed (an OpenNet D of type I) plots so.
+                        signed: info.signed || reading == Format::Signed,
+                        reading,
+                        group: c.group,
+                        expr: None,
+                    });
+                }
+                // Not a location: a watch expression plotted as a channel.
+                let expr = expr::Expr::compile(&c.location, m).ok()?;
+                Some(Channel {
+                    loc: Loc::new(0, 0),
+                    label: label(expr.text()),
+                    name: expr.text().to_string(),
+                    width: 64,
+                    signed: true,
+                    reading: Format::Signed,
+                    group: c.group,
+                    expr: Some(expr),
+                })
+            })
+            .take(MAX_CHANNELS)
+            .collect()
+    }
+
+    /// Choose the plot channels. The trace is rebuilt by replaying the recorded history.
+    pub fn set_channels(&mut self, channels: Vec<ChannelChoice>) {
+        self.channel_names = channels;
+        self.channel_names.truncate(MAX_CHANNELS);
+        for c in &mut self.channel_names {
+            c.group = c.group.min(trace::PLOT_GROUPS - 1);
+        }
+        let here = self.pos();
+        let furthest = self.furthest();
+        let resolved = self.resolve_channels(self.engine.machine());
+        let marks: Vec<Mark> = self.marks().to_vec();
+        let stopped = self.engine.stopped();
+        let mut engine = self.engine.restarted(self.events().to_vec(), resolved);
+        engine.forward(furthest, &StopWhen::default());
+        if stopped {
+            run_into_stop(engine.as_mut());
+        }
+        for m in marks {
+            engine.mark_at(m.at, m.kind, m.line);
+        }
+        engine.goto(here);
+        self.engine = engine;
+    }
+}

@@ -1,0 +1,253 @@
+//! The ladder diagram of a scanned PLC program, dialect-neutral and without egui: the window's
+//! Ladder panel, the SVG export and the tests all read this one model.
+//!
+//! A dialect turns its instructions into [`Step`]s (load, and, or, the block instructions,
+//! outputs, boxes); [`Ladder::build`] combines them exactly as the boolean stack does, into
+//! rungs of elements joined at nodes: an element conducts from its input node(s) to its output
+//! node, and coils and boxes end at the right rail. Series is "the output node of one is the
+//! input node of the next", parallel is "same input node and same output node". Node 0 of every
+//! rung is the left rail.
+//!
+//! Layout is in grid cells: a node's column is the longest path to it from the rail, every
+//! contact is one cell wide, coils and boxes line up in the rung's last column; rows are given
+//! greedily in program order (the first free row at or below the row its input node came in on),
+//! so a parallel branch lands under the one it joins. Vertical wires join every element that
+//! touches a node at that node's column.
+
+mod build;
+mod comments;
+mod draw;
+mod layout;
+mod power;
+#[cfg(test)]
+mod tests;
+
+pub use comments::{comment_of, with_comments};
+pub use draw::{RUNG_COMMENT_LINES, coil_letters, fit, svg, svg_of, value_text};
+pub use power::{RungPower, RungState, power_of};
+
+/// A node of a rung; [`RAIL`] is the left power rail.
+pub type NodeId = u32;
+pub const RAIL: NodeId = 0;
+
+/// Which change an edge element reacts to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EdgeKind {
+    Rising,
+    Falling,
+}
+
+/// What kind of coil an output is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CoilKind {
+    /// `-( )-`
+    Out,
+    /// `-(/)-`: the bit takes the inverse of the rung (OpenNet OUTN).
+    OutNot,
+    /// `-(S)-`
+    Set,
+    /// `-(R)-`
+    Reset,
+    /// `-(PD)-`: on for one scan at the rung's rise.
+    Pulse,
+    /// `-(OR)-`: DL205 OROUT.
+    OrOut,
+    /// `-(JMP)-`: DL205's stage jump, drawn as DirectSOFT draws it, a coil naming the stage.
+    Jump,
+}
+
+/// How an element is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Symbol {
+    /// `-| |-` (normally open) or `-|/|-` (normally closed); with an edge, `-|↑|-` / `-|↓|-`.
+    Contact {
+        closed: bool,
+        edge: Option<EdgeKind>,
+    },
+    /// A comparison that conducts while it holds (`V2000 >= K10`).
+    Compare,
+    /// Inverts the power of everything before it (DL205 NOT).
+    Invert,
+    /// Passes one scan's pulse when the power before it changes (OpenNet SOTU/SOTD).
+    PowerEdge(EdgeKind),
+    Coil(CoilKind),
+    /// Everything else: math, moves, timers, counters, stages, jumps.
+    Box,
+}
+
+impl Symbol {
+    /// Ends at the right rail (a coil or a box).
+    pub fn is_terminal(self) -> bool {
+        matches!(self, Symbol::Coil(_) | Symbol::Box)
+    }
+}
+
+/// One drawn element of a rung.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Element {
+    pub symbol: Symbol,
+    /// Index of its instruction, and its 1-based source line.
+    pub instr: usize,
+    pub line: usize,
+    /// The bit it reads or writes (`X1`, `Q0`), or for a box its mnemonic (`TMR`).
+    pub operand: String,
+    /// What the diagram writes on it: the bit's name, the comparison, the box's text.
+    pub text: String,
+    /// Locations a box shows live, by name (`TA1`, `V2000`).
+    pub values: Vec<String>,
+    /// Where each input comes from (one per leg for a box with several: count and reset).
+    pub from: Vec<NodeId>,
+    /// Its output node; None for coils and boxes (they end at the right rail).
+    pub to: Option<NodeId>,
+    /// Layout: the cell of its symbol (for a box with legs, the top one) and its height in rows.
+    pub col: u16,
+    pub row: u16,
+    pub height: u16,
+    /// The column its input wire starts in (a coil's wire runs from there to the last column).
+    pub from_col: u16,
+    /// The row each input enters at (a box's legs each at their own network's row).
+    pub leg_rows: Vec<u16>,
+    /// The trailing comment of its line.
+    pub comment: String,
+}
+
+/// A vertical wire at a node: column boundary `col`, rows `top..=bottom`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Vertical {
+    pub node: NodeId,
+    pub col: u16,
+    pub top: u16,
+    pub bottom: u16,
+}
+
+/// A horizontal wire filling cells `from_col..to_col` of `row` with the power of `node`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Filler {
+    pub node: NodeId,
+    pub row: u16,
+    pub from_col: u16,
+    pub to_col: u16,
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Rung {
+    pub elements: Vec<Element>,
+    pub nodes: u32,
+    /// Column of each node.
+    pub node_col: Vec<u16>,
+    /// The column coils and boxes stand in; the rung is `last_col + 1` cells wide.
+    pub last_col: u16,
+    pub rows: u16,
+    pub verticals: Vec<Vertical>,
+    pub fillers: Vec<Filler>,
+    /// The comment lines right above the rung's first instruction.
+    pub comment: String,
+}
+
+impl Rung {
+    /// The first and last instruction of the rung.
+    pub fn instrs(&self) -> (usize, usize) {
+        let first = self.elements.iter().map(|e| e.instr).min().unwrap_or(0);
+        let last = self.elements.iter().map(|e| e.instr).max().unwrap_or(0);
+        (first, last)
+    }
+
+    pub fn first_line(&self) -> usize {
+        self.elements.iter().map(|e| e.line).min().unwrap_or(0)
+    }
+
+    /// Elements whose output node is `node`.
+    pub fn into_node(&self, node: NodeId) -> impl Iterator<Item = &Element> {
+        self.elements.iter().filter(move |e| e.to == Some(node))
+    }
+
+    /// The elements connected directly before `e` (None in the list: the left rail).
+    pub fn before(&self, e: &Element) -> Vec<Option<&Element>> {
+        let mut out = Vec::new();
+        for &n in &e.from {
+            if n == RAIL {
+                out.push(None);
+            }
+            out.extend(self.into_node(n).map(Some));
+        }
+        out
+    }
+}
+
+/// The diagram of a whole program.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Ladder {
+    pub rungs: Vec<Rung>,
+    /// The widest rung's last column: coils and boxes of every rung are drawn there.
+    pub last_col: u16,
+}
+
+/// One instruction as the boolean stack sees it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Step {
+    /// Starts a block (STR, LOD, a compare that starts one); after an output, a new rung.
+    Load(Element),
+    And(Element),
+    Or(Element),
+    /// ANDSTR/ANDLOD, ORSTR/ORLOD: the two blocks on top in series / in parallel.
+    AndBlock,
+    OrBlock,
+    /// An element in series with the current block that is not a contact (NOT, SOTU).
+    Series(Element),
+    /// OpenNet's branch stack: BPS saves the point, BRD goes back to it, BPP goes back and
+    /// forgets it.
+    Push,
+    Read,
+    Pop,
+    /// A coil or box on the current block's power (other outputs may follow on the same).
+    Output(Element),
+    /// A box with this many legs: the top `legs - 1` blocks on the stack and the current one,
+    /// in program order (count and reset; up, down and reset).
+    Boxed(Element, usize),
+    /// An instruction that stands alone as its own rung (END, a label, a stage, MCR).
+    Alone(Element),
+    /// Takes no part (NOP).
+    Skip,
+}
+
+impl Element {
+    /// An element before the builder wires it.
+    pub fn new(symbol: Symbol, instr: usize, line: usize, operand: impl Into<String>) -> Self {
+        let operand = operand.into();
+        Element {
+            symbol,
+            instr,
+            line,
+            text: operand.clone(),
+            operand,
+            values: Vec::new(),
+            from: Vec::new(),
+            to: None,
+            col: 0,
+            row: 0,
+            height: 1,
+            from_col: 0,
+            leg_rows: Vec::new(),
+            comment: String::new(),
+        }
+    }
+
+    pub fn text(mut self, text: impl Into<String>) -> Self {
+        self.text = text.into();
+        self
+    }
+
+    pub fn values(mut self, values: Vec<String>) -> Self {
+        self.values = values;
+        self
+    }
+}
+
+impl Ladder {
+    /// The rung holding instruction `instr`.
+    pub fn rung_of(&self, instr: usize) -> Option<usize> {
+        self.rungs
+            .iter()
+            .position(|r| r.elements.iter().any(|e| e.instr == instr))
+    }
+}
