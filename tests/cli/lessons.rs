@@ -1,28 +1,8 @@
 //! The command line: grading through `servoscope check`.
 use crate::common;
+use common::lessons::{ANSWER, LESSON};
 use common::{scratch_file, servoscope};
 use std::path::PathBuf;
-
-/// A SilverLode lesson whose program stores 1015 where the task asks for 1016.
-const LESSON: &str = r##"(
-  format: 2,
-  dialect: "silverlode",
-  program_name: "scaling.qsl",
-  program: "DEF mm_per_count = q16(0.0254)\n        WRP 20, 40000\n        CLD MULT_S64_SHR16, 21, 20, mm_per_count\n        CLC DEC, 21\n        END\n",
-  lesson: Some((
-    title: "Scaling",
-    steps: [
-      (text: "# Read\nNothing to check here.", checks: []),
-      (text: "Make **R21** hold 1016.", checks: ["R21 == 1016", "R20 == 40000"]),
-    ],
-  )),
-)"##;
-
-const ANSWER: &str = "DEF mm_per_count = q16(0.0254)
-        WRP 20, 40000
-        CLD MULT_S64_SHR16, 21, 20, mm_per_count
-        END
-";
 
 fn lesson_file(name: &str) -> PathBuf {
     scratch_file(name, LESSON)

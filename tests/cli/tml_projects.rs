@@ -1,28 +1,12 @@
 //! The command line: TML projects of several files through the runner.
 use crate::common;
-use common::servoscope;
+use common::{scratch_dir, servoscope, write};
 use std::path::{Path, PathBuf};
 
 const EXAMPLE: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/assets/examples/easymotion_axis"
 );
-
-/// A fresh directory for files on disk.
-fn scratch_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("servoscope-proj-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("a scratch directory");
-    dir
-}
-
-fn write(dir: &Path, name: &str, text: &str) {
-    let path = dir.join(name);
-    if let Some(parent) = path.parent() {
-        std::fs::create_dir_all(parent).expect("folders");
-    }
-    std::fs::write(path, text).expect("write");
-}
 
 // ---- the example project through the runner, the debugger, sessions and the window -----------
 

@@ -1,8 +1,11 @@
-#![allow(dead_code)]
 //! Helpers shared by the integration tests.
 
+#![allow(dead_code)]
+
 pub mod agree;
+pub mod lessons;
 pub mod scanned;
+pub mod sessions;
 
 use std::path::PathBuf;
 
@@ -107,4 +110,50 @@ pub fn every_value(m: &dyn MachineView) -> Vec<(String, u64)> {
         }
     }
     out
+}
+
+/// The value of the location named `name` (which must exist).
+pub fn get(m: &(impl MachineView + ?Sized), name: &str) -> u64 {
+    m.read(m.find(name).unwrap_or_else(|| panic!("{name} exists")))
+}
+
+/// Store `value` in the location named `name` (which must exist and take it).
+pub fn set(m: &mut (impl MachineView + ?Sized), name: &str, value: u64) {
+    let loc = m.find(name).unwrap_or_else(|| panic!("{name} exists"));
+    m.write(loc, value)
+        .unwrap_or_else(|e| panic!("write {name}: {e:?}"));
+}
+
+/// Each diagnostic as the user reads it; none when the program assembled.
+pub fn error_texts<T>(
+    assembled: Result<T, Vec<servoscope_core::machine::Diagnostic>>,
+) -> Vec<String> {
+    match assembled {
+        Ok(_) => Vec::new(),
+        Err(e) => e.iter().map(ToString::to_string).collect(),
+    }
+}
+
+/// A debugger on `source` in the dialect named `dialect`; the program must assemble.
+pub fn debugger(dialect: &str, source: &str) -> servoscope_core::debugger::Debugger {
+    let dialect = servoscope_core::registry::by_name(dialect).expect("a registered dialect");
+    let d = servoscope_core::debugger::Debugger::with_dialect(dialect, "test", source);
+    assert!(!d.has_errors(), "{dialect:?} {:?}", d.diagnostics());
+    d
+}
+
+/// A fresh directory for files on disk.
+pub fn scratch_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("servoscope-proj-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a scratch directory");
+    dir
+}
+
+pub fn write(dir: &std::path::Path, name: &str, text: &str) {
+    let path = dir.join(name);
+    if let Some(parent) = path.parent() {
+        std::fs::create_dir_all(parent).expect("folders");
+    }
+    std::fs::write(path, text).expect("write");
 }

@@ -1,7 +1,8 @@
-#![allow(dead_code)]
 //! A scanned PLC in miniature, written against the same traits every dialect implements: a tick
 //! is a whole scan of many instructions. Tests of (tick, step) positions and of the window's
 //! dialect-neutral views use it.
+
+#![allow(dead_code)]
 
 use std::any::Any;
 use std::sync::Arc;

@@ -8,19 +8,12 @@ use servoscope_core::debugger::{
     BreakError, BreakKind, Breakpoint, DataTrigger, Debugger, Event, Speed,
 };
 use servoscope_core::machine::{Format, Pos, value_of};
-use servoscope_core::registry;
 use servoscope_core::session::{Session, ViewSettings};
 
 use crate::common;
+use common::debugger;
 
 const LOOP: &str = common::ROUNDS;
-
-fn debugger(dialect: &str, source: &str) -> Debugger {
-    let dialect = registry::by_name(dialect).expect("a registered dialect");
-    let d = Debugger::with_dialect(dialect, "test", source);
-    assert!(!d.has_errors(), "{dialect:?} {:?}", d.diagnostics());
-    d
-}
 
 /// Run until the debugger stops on its own (breakpoint, end, fault).
 fn run_to_stop(d: &mut Debugger) {

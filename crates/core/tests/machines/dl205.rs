@@ -2,21 +2,18 @@
 //! first, the push rule and the stack's edges, every BCD and binary instruction against an
 //! integer reference, rungs, comparisons, the assembler, the runner and the examples.
 
+use crate::common::{get, set};
+
+fn errors(src: &str) -> Vec<String> {
+    crate::common::error_texts(machine(src))
+}
+
 use proptest::prelude::*;
 use servoscope_core::machine::PlcView;
 use servoscope_core::machine::dl205::dialect::machine;
 use servoscope_core::machine::dl205::program::sp;
 use servoscope_core::machine::dl205::{Dl205, bcd_value, to_bcd};
 use servoscope_core::machine::{Machine, MachineView};
-
-fn set(m: &mut Dl205, name: &str, v: u64) {
-    let loc = m.find(name).unwrap_or_else(|| panic!("{name}"));
-    m.write(loc, v).unwrap();
-}
-
-fn get(m: &Dl205, name: &str) -> u64 {
-    m.read(m.find(name).unwrap_or_else(|| panic!("{name}")))
-}
 
 fn scans(src: &str, n: u64) -> Dl205 {
     let mut m = machine(src).unwrap_or_else(|e| panic!("assembles: {e:?}\n{src}"));
@@ -27,13 +24,6 @@ fn scans(src: &str, n: u64) -> Dl205 {
 /// One scan of `body` on an always-on rung.
 fn once(body: &str) -> Dl205 {
     scans(&format!("STR SP1\n{body}\nEND"), 1)
-}
-
-fn errors(src: &str) -> Vec<String> {
-    match machine(src) {
-        Ok(_) => Vec::new(),
-        Err(e) => e.iter().map(ToString::to_string).collect(),
-    }
 }
 
 // ---- The seed's SUBS example (spec §6.7) ------------------------------------------------------

@@ -1,6 +1,12 @@
 //! DL205 timers, counters, edges and the scan's time base against `dl205.md` §4–§6.1, §6.5,
 //! §6.9 and §6.11 (the manual's timing diagrams, p. 5-41), at several scan times.
 
+use crate::common::{get, set};
+
+fn errors(src: &str) -> Vec<String> {
+    crate::common::error_texts(assemble(src))
+}
+
 use servoscope_core::machine::dl205::Dl205;
 use servoscope_core::machine::dl205::assembler::assemble;
 use servoscope_core::machine::plc::TimeBase;
@@ -12,26 +18,10 @@ fn plc(src: &str, scan_ms: u32) -> Dl205 {
     Dl205::with_time(Arc::new(program), TimeBase { scan_ms })
 }
 
-fn get(m: &Dl205, name: &str) -> u64 {
-    m.read(m.find(name).unwrap_or_else(|| panic!("{name}")))
-}
-
-fn set(m: &mut Dl205, name: &str, v: u64) {
-    let loc = m.find(name).unwrap_or_else(|| panic!("{name}"));
-    m.write(loc, v).unwrap();
-}
-
 /// Run until `n` scans have completed.
 fn to_scan(m: &mut Dl205, n: u64) {
     m.run_until(n, |_| false);
     assert_eq!(m.ticks(), n);
-}
-
-fn errors(src: &str) -> Vec<String> {
-    match assemble(src) {
-        Ok(_) => Vec::new(),
-        Err(e) => e.iter().map(ToString::to_string).collect(),
-    }
 }
 
 // ---- §6.11: the manual's timing diagrams ---------------------------------------------------

@@ -1,6 +1,12 @@
 //! DL205 program control against `dl205.md` §2, §5, §6.8 and §6.10: GOTO/LBL, FOR/NEXT,
 //! GTS/SBR/RT/RTC, MLS/MLR, stages with their clean-up pass, and what counts as a step.
 
+use crate::common::{get, set};
+
+fn errors(src: &str) -> Vec<String> {
+    crate::common::error_texts(assemble(src))
+}
+
 use servoscope_core::debugger::Debugger;
 use servoscope_core::machine::PlcView;
 use servoscope_core::machine::dl205::Dl205;
@@ -13,15 +19,6 @@ fn plc(src: &str) -> Dl205 {
     Dl205::new(Arc::new(program))
 }
 
-fn get(m: &Dl205, name: &str) -> u64 {
-    m.read(m.find(name).unwrap_or_else(|| panic!("{name}")))
-}
-
-fn set(m: &mut Dl205, name: &str, v: u64) {
-    let loc = m.find(name).unwrap_or_else(|| panic!("{name}"));
-    m.write(loc, v).unwrap();
-}
-
 fn scan(m: &mut Dl205) -> u64 {
     let steps = m.steps();
     let t = m.ticks();
@@ -31,13 +28,6 @@ fn scan(m: &mut Dl205) -> u64 {
 
 fn settle(d: &mut Debugger) {
     while d.advance(0.016, std::time::Duration::from_millis(200)) {}
-}
-
-fn errors(src: &str) -> Vec<String> {
-    match assemble(src) {
-        Ok(_) => Vec::new(),
-        Err(e) => e.iter().map(ToString::to_string).collect(),
-    }
 }
 
 #[test]

@@ -3,17 +3,11 @@
 //! user events, so time travel replays them, "who wrote this?" names them, sessions keep them
 //! and the runner takes them.
 
+use crate::common::debugger;
+
 use servoscope_core::debugger::{Debugger, EditError, Event};
 use servoscope_core::machine::WriteError;
-use servoscope_core::registry::by_name;
 use servoscope_core::session::{Session, ViewSettings};
-
-fn debugger(dialect: &str, source: &str) -> Debugger {
-    let d = by_name(dialect).expect("registered");
-    let mut dbg = Debugger::with_dialect(d, "test", source);
-    assert!(dbg.assemble(), "assembles: {:?}", dbg.diagnostics());
-    dbg
-}
 
 fn to_tick(d: &mut Debugger, tick: u64) {
     d.goto_tick(tick);

@@ -3,24 +3,24 @@
 #[path = "../common/mod.rs"]
 mod common;
 
-mod assembler;
 mod bench_programs;
 mod dl205;
 mod dl205_boxes;
 mod dl205_flow;
-mod examples;
 mod fast_loop;
 mod forcing;
 mod ladder;
-mod motion;
 mod opennet;
 mod opennet_plc;
 mod overflow_words;
 mod plc_fast_loop;
 mod positions;
 mod product;
-mod properties;
 mod reference;
+mod silverlode_assembler;
+mod silverlode_examples;
+mod silverlode_motion;
+mod silverlode_properties;
+mod silverlode_vendor_examples;
 mod tml;
 mod tml_projects;
-mod vendor_examples;

@@ -2,6 +2,10 @@
 //! storage table, execution errors, every instruction and type against an integer reference,
 //! REP, word order, M8003/M8004, edges, rungs, the assembler, the runner and the examples.
 
+fn errors(src: &str) -> Vec<String> {
+    crate::common::error_texts(machine(src))
+}
+
 use proptest::prelude::*;
 use servoscope_core::machine::opennet::dialect::machine;
 use servoscope_core::machine::opennet::{M8003, M8004, OpenNet};
@@ -19,13 +23,6 @@ fn once(src: &str) -> OpenNet {
 
 fn pair(m: &OpenNet, n: usize) -> u32 {
     (u32::from(m.d[n]) << 16) | u32::from(m.d[n + 1])
-}
-
-fn errors(src: &str) -> Vec<String> {
-    match machine(src) {
-        Ok(_) => Vec::new(),
-        Err(e) => e.iter().map(ToString::to_string).collect(),
-    }
 }
 
 // ---- The vendor's examples and table ------------------------------------------------------

@@ -2,15 +2,10 @@
 //! set a carry or error flag; an instruction is credited only with what it wrote; the runner's
 //! trace carries the same words. Expected numbers are worked by hand from the specs.
 
+use crate::common::debugger;
+
 use servoscope_core::debugger::Debugger;
 use servoscope_core::machine::{Loc, MachineView};
-use servoscope_core::registry;
-
-fn debugger(dialect: &str, source: &str) -> Debugger {
-    let d = Debugger::with_dialect(registry::by_name(dialect).expect("registered"), "p", source);
-    assert!(!d.has_errors(), "{:?}", d.diagnostics());
-    d
-}
 
 /// Step until `line` has run, and return its explanation.
 fn explained_after(d: &mut Debugger, line: usize) -> String {

@@ -2,6 +2,10 @@
 //! example, the arithmetic against an i128 reference, PREG, division, the call stack, events and
 //! WAIT! tick by tick, the motion model, assembler errors and the runner.
 
+fn errors(src: &str) -> Vec<String> {
+    crate::common::error_texts(machine(src))
+}
+
 use proptest::prelude::*;
 use servoscope_core::machine::tml::dialect::machine;
 use servoscope_core::machine::tml::{Tml, d};
@@ -25,13 +29,6 @@ fn var(m: &Tml, name: &str) -> i64 {
             i64::from(m.vars[i] as u16 as i16)
         }
         _ => i64::from(m.vars[i] as i32),
-    }
-}
-
-fn errors(src: &str) -> Vec<String> {
-    match machine(src) {
-        Ok(_) => Vec::new(),
-        Err(e) => e.iter().map(ToString::to_string).collect(),
     }
 }
 

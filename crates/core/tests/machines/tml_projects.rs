@@ -5,6 +5,7 @@
 //! The example project's golden values (addresses, ticks, registers) were worked out by hand
 //! and by an independent model from the spec's rules, not from servoscope's output.
 
+use crate::common::{scratch_dir, write};
 use std::path::{Path, PathBuf};
 
 use servoscope_core::debugger::Debugger;
@@ -61,22 +62,6 @@ fn run(src: &str) -> Tml {
 fn var(m: &Tml, name: &str) -> i64 {
     let loc = m.find(name).unwrap_or_else(|| panic!("{name}"));
     servoscope_core::machine::value_of(m, loc)
-}
-
-/// A fresh directory for files on disk.
-fn scratch_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("servoscope-proj-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("a scratch directory");
-    dir
-}
-
-fn write(dir: &Path, name: &str, text: &str) {
-    let path = dir.join(name);
-    if let Some(parent) = path.parent() {
-        std::fs::create_dir_all(parent).expect("folders");
-    }
-    std::fs::write(path, text).expect("write");
 }
 
 // ---- §1.1 files and #include ---------------------------------------------------------------

@@ -3,6 +3,7 @@
 //! shipped lesson failing on its starting program and passing on a correct answer.
 
 use crate::common;
+use common::lessons::{ANSWER, LESSON};
 
 use std::path::{Path, PathBuf};
 
@@ -10,27 +11,6 @@ use servoscope_core::debugger::expr::Expr;
 use servoscope_core::lesson::{self, Lesson, LessonStep};
 use servoscope_core::registry;
 use servoscope_core::session::Session;
-
-/// A SilverLode lesson whose program stores 1015 where the task asks for 1016.
-const LESSON: &str = r##"(
-  format: 2,
-  dialect: "silverlode",
-  program_name: "scaling.qsl",
-  program: "DEF mm_per_count = q16(0.0254)\n        WRP 20, 40000\n        CLD MULT_S64_SHR16, 21, 20, mm_per_count\n        CLC DEC, 21\n        END\n",
-  lesson: Some((
-    title: "Scaling",
-    steps: [
-      (text: "# Read\nNothing to check here.", checks: []),
-      (text: "Make **R21** hold 1016.", checks: ["R21 == 1016", "R20 == 40000"]),
-    ],
-  )),
-)"##;
-
-const ANSWER: &str = "DEF mm_per_count = q16(0.0254)
-        WRP 20, 40000
-        CLD MULT_S64_SHR16, 21, 20, mm_per_count
-        END
-";
 
 #[test]
 fn a_session_with_a_lesson_section_keeps_it_through_save_and_load() {

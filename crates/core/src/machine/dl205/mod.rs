@@ -13,6 +13,7 @@ pub mod explain;
 pub mod fast;
 pub mod ladder;
 pub mod program;
+mod scanned;
 pub mod syntax;
 pub mod view;
 
