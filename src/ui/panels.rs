@@ -1,6 +1,6 @@
-//! A dialect's own panels (SilverLode's queue rings; later DL205's accumulator stack, TML's
-//! product register): a small trait, implemented in the dialect's folder and registered in its
-//! [`servoscope_core::registry::Dialect`] entry. A panel appears only for its dialect.
+//! A dialect's own panels (SilverLode's queue rings, DL205's accumulator stack, TML's product
+//! register): a small trait, implemented in the dialect's folder under `ui/dialects/` and listed
+//! in [`super::dialects::PANELS`]. A panel appears only for its dialect.
 
 use super::Command;
 use servoscope_core::debugger::Debugger;

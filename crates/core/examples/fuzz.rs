@@ -4,15 +4,15 @@
 //! under `catch_unwind` and a watchdog's time limit.
 //!
 //! ```text
-//! cargo run --release --example fuzz -- DIALECT|session|all CASES SEED [--out DIR] [--limit-ms N]
-//! cargo run --release --example fuzz -- repro DIALECT|session FILE CASE_SEED
+//! cargo run -p servoscope-core --release --example fuzz -- DIALECT|session|all CASES SEED [--out DIR] [--limit-ms N]
+//! cargo run -p servoscope-core --release --example fuzz -- repro DIALECT|session FILE CASE_SEED
 //! ```
 //!
 //! A failing case (a panic, a case over the time limit, or a difference: a restored session or
 //! a replayed position that is not the state it should be) is written to the output folder
 //! (default `target/fuzz-failures`) with a one-line reproduction in `failures.txt`. Exit code
 //! 0 when every case passed, 1 when any failed, 2 for bad arguments. For overflow checks in a
-//! release build: `CARGO_PROFILE_RELEASE_OVERFLOW_CHECKS=true cargo run --release --example fuzz`.
+//! release build: `CARGO_PROFILE_RELEASE_OVERFLOW_CHECKS=true cargo run -p servoscope-core --release --example fuzz`.
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
@@ -529,7 +529,7 @@ fn save_failure(out: &Path, kind: &str, target: &str, case_seed: u64, input: &st
     let file = out.join(format!("{kind}-{target}-{case_seed:016x}.{ext}"));
     let _ = std::fs::write(&file, input);
     let line = format!(
-        "{kind}: {} | cargo run --release --example fuzz -- repro {target} {} {case_seed}\n",
+        "{kind}: {} | cargo run -p servoscope-core --release --example fuzz -- repro {target} {} {case_seed}\n",
         why.lines().next().unwrap_or(""),
         file.display()
     );

@@ -12,6 +12,7 @@ pub mod dialect;
 pub mod explain;
 pub mod fast;
 pub mod ladder;
+pub mod memory;
 pub mod program;
 mod scanned;
 pub mod syntax;
