@@ -1,7 +1,8 @@
 //! The composition root: the list of dialects servoscope knows, and the glue that turns a
-//! dialect's assembled machine into a debugger engine. It stands above the layers (machine ←
-//! debugger ← session, runner, lesson), so none of them names a dialect; everything above the
-//! core (the window, `main`) finds the dialects here.
+//! dialect's assembled machine into a debugger engine. It stands above the machines and the
+//! debugger (machine ← debugger ← registry ← session, runner, lesson), so neither names a
+//! dialect; sessions, the runner and everything above the core (the window, `main`) find the
+//! dialects here.
 //!
 //! Adding a dialect: its folder under `machine/` (with `dialect::DIALECT` and `dialect::open`),
 //! `pub mod` in `machine/mod.rs`, and one word in [`dialects!`] below.
@@ -96,7 +97,6 @@ pub fn lessons() -> impl Iterator<Item = (&'static Dialect, &'static str, &'stat
         .flat_map(|d| d.lessons.iter().map(move |&(n, t)| (*d, n, t)))
 }
 
-/// Every example of every dialect, with its dialect.
 /// Every built-in example of several files: its dialect, title and files.
 pub fn example_projects() -> impl Iterator<Item = (&'static Dialect, &'static str, Project)> {
     DIALECTS.iter().flat_map(|d| {
@@ -113,6 +113,7 @@ pub fn example_projects() -> impl Iterator<Item = (&'static Dialect, &'static st
     })
 }
 
+/// Every example of every dialect, with its dialect.
 pub fn examples() -> impl Iterator<Item = (&'static Dialect, &'static str, &'static str)> {
     DIALECTS
         .iter()
