@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+use servoscope_core::machine::Diagnostic;
 use servoscope_core::machine::diagnostics::printable;
 use servoscope_core::registry::{self, Dialect, Settings};
 use servoscope_core::runner::{self, Report};
@@ -55,7 +56,8 @@ struct CheckArgs {
     /// dialect's runner default.
     #[arg(long)]
     max_ticks: Option<u64>,
-    /// Print exactly one JSON object on stdout.
+    /// Print exactly one JSON object on stdout (also when the program does not assemble:
+    /// status "not assembled" with every diagnostic).
     #[arg(long)]
     json: bool,
 }
@@ -104,7 +106,8 @@ struct RunArgs {
     /// Repeatable.
     #[arg(long = "setting", value_name = "KEY=VALUE")]
     settings: Vec<String>,
-    /// Print exactly one JSON object on stdout.
+    /// Print exactly one JSON object on stdout (also when the program does not assemble:
+    /// status "not assembled" with every diagnostic).
     #[arg(long)]
     json: bool,
     /// When the run stops, save a session that reproduces this exact state.
@@ -259,7 +262,17 @@ fn run(args: &RunArgs) -> Result<u8, String> {
         settings.insert(key, value);
     }
     let settings = start.dialect.settings_from(&settings);
-    let engine = open_engine(&start, &settings, &name)?;
+    let engine = open_engine(&start, &settings, &name).map_err(|diagnostics| {
+        if json {
+            print_json(runner::not_assembled_json(
+                start.dialect,
+                &start.project,
+                &name,
+                &diagnostics,
+            ));
+        }
+        nothing_run(&name, &diagnostics)
+    })?;
     let m = engine.machine();
     let events = match &start.session {
         // A session resumes at its saved tick; the events decide everything, so running on
@@ -362,7 +375,7 @@ fn open_engine(
     start: &Start,
     settings: &Settings,
     name: &str,
-) -> Result<Box<dyn servoscope_core::debugger::Engine>, String> {
+) -> Result<Box<dyn servoscope_core::debugger::Engine>, Vec<Diagnostic>> {
     match start.dialect.open_program(&start.project, settings) {
         Ok(engine) => {
             for d in engine
@@ -383,12 +396,20 @@ fn open_engine(
                 let more = diagnostics.len() - MAX_DIAGNOSTICS_SHOWN;
                 say(&format!("... and {more} more error(s)"));
             }
-            Err(format!(
-                "{name}: {} error(s), nothing run",
-                diagnostics.len()
-            ))
+            Err(diagnostics)
         }
     }
+}
+
+/// Why nothing ran, for the exit with code 2.
+fn nothing_run(name: &str, diagnostics: &[Diagnostic]) -> String {
+    format!("{name}: {} error(s), nothing run", diagnostics.len())
+}
+
+/// `--json`'s one object for a program that did not assemble, on standard output.
+fn print_json(value: impl std::fmt::Display) {
+    let mut out = std::io::stdout().lock();
+    let _ = writeln!(out, "{value}").and_then(|()| out.flush());
 }
 
 /// `servoscope ladder`: the diagram with its power flow after the scans asked for, as SVG.
@@ -401,7 +422,7 @@ fn ladder(args: &LadderArgs) -> Result<(), String> {
         settings.insert(key, value);
     }
     let settings = start.dialect.settings_from(&settings);
-    let engine = open_engine(&start, &settings, &name)?;
+    let engine = open_engine(&start, &settings, &name).map_err(|d| nothing_run(&name, &d))?;
     let m = engine.machine();
     if !m.is_plc() {
         return Err(format!(
@@ -471,7 +492,20 @@ fn check(args: &CheckArgs) -> Result<u8, String> {
         session: None,
     };
     let settings = dialect.settings_from(&session.settings);
-    let engine = open_engine(&start, &settings, &name)?;
+    let engine = open_engine(&start, &settings, &name).map_err(|diagnostics| {
+        if args.json {
+            let outcomes =
+                servoscope_core::lesson::unevaluated(&lesson, "the program did not assemble");
+            let mut run = runner::not_assembled_json(dialect, &start.project, &name, &diagnostics);
+            run["program"] = serde_json::json!(name);
+            print_json(servoscope_core::lesson::report_json(
+                &lesson.title,
+                &outcomes,
+                run,
+            ));
+        }
+        nothing_run(&name, &diagnostics)
+    })?;
     let events = session
         .user_events(engine.machine(), &lesson_name)
         .map_err(|e| e.to_string())?;

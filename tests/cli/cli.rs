@@ -120,9 +120,33 @@ fn a_fault_exits_1_with_kind_message_and_line() {
 #[test]
 fn assembly_errors_exit_2_with_every_diagnostic_on_stderr() {
     let f = program_file("CLK ADD, 1\nWRP 11, 1\nJMP nowhere\n");
+    let out = servoscope(&["run", f.path()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        out.stdout.is_empty(),
+        "no report of a run that did not happen"
+    );
     let out = servoscope(&["run", f.path(), "--json"]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(out.stdout.is_empty(), "nothing on stdout");
+    // `--json` promises one object: a script records that the program did not assemble.
+    let j = json(&out);
+    assert_eq!(j["dialect"], "silverlode");
+    assert_eq!(j["status"], "not assembled");
+    let diagnostics = j["diagnostics"].as_array().expect("a list");
+    assert_eq!(diagnostics.len(), 2, "{j}");
+    assert_eq!(diagnostics[0]["file"], f.path());
+    assert_eq!(
+        (&diagnostics[0]["line"], &diagnostics[0]["column"]),
+        (&Value::from(1), &Value::from(1))
+    );
+    assert_eq!(diagnostics[0]["severity"], "error");
+    assert_eq!(diagnostics[0]["message"], "unknown command 'CLK'");
+    assert_eq!(
+        (&diagnostics[1]["line"], &diagnostics[1]["column"]),
+        (&Value::from(3), &Value::from(5))
+    );
+    assert_eq!(diagnostics[1]["message"], "undefined label 'nowhere'");
+    assert!(j.get("ticks").is_none(), "nothing ran: {j}");
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
         err.contains(&format!("{}:1:1: error: unknown command 'CLK'", f.path())),

@@ -70,6 +70,27 @@ fn check_exits_2_when_the_program_does_not_assemble_or_a_file_is_missing() {
         out.stdout.is_empty(),
         "no grading of a program that did not run"
     );
+    // With --json, one object: every check failed because nothing ran, and why.
+    let out = servoscope(&[
+        "check",
+        lesson_arg,
+        broken.to_str().expect("UTF-8"),
+        "--json",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let j = check_json(&out);
+    assert_eq!(
+        (j["passed"].as_u64(), j["failed"].as_u64()),
+        (Some(0), Some(2))
+    );
+    let checks = j["checks"].as_array().expect("a list");
+    assert_eq!(checks[0]["expr"], "R21 == 1016");
+    assert_eq!(checks[0]["pass"], false);
+    assert_eq!(checks[0]["error"], "the program did not assemble");
+    assert_eq!(j["run"]["status"], "not assembled");
+    assert_eq!(j["run"]["program"], broken.to_str().expect("UTF-8"));
+    assert_eq!(j["run"]["diagnostics"][0]["line"], 2);
+    assert_eq!(j["run"]["diagnostics"][0]["column"], 1);
     let out = servoscope(&["check", "/nonexistent/lesson.ron"]);
     assert_eq!(out.status.code(), Some(2));
     let out = servoscope(&["check", lesson_arg, "/nonexistent/answer.qsl"]);

@@ -154,6 +154,24 @@ pub fn evaluate_all(lesson: &Lesson, m: &dyn MachineView) -> Vec<CheckOutcome> {
         .collect()
 }
 
+/// Every check of `lesson` failed without being evaluated, each saying `why` (the program
+/// did not assemble: nothing ran to look at).
+pub fn unevaluated(lesson: &Lesson, why: &str) -> Vec<CheckOutcome> {
+    (lesson.steps.iter().enumerate())
+        .flat_map(|(i, step)| {
+            step.checks.iter().map(move |c| CheckOutcome {
+                step: i + 1,
+                expr: c.trim().to_string(),
+                pass: false,
+                values: Vec::new(),
+                readings: Vec::new(),
+                expected: None,
+                error: Some(why.to_string()),
+            })
+        })
+        .collect()
+}
+
 /// For a check that compares something with a constant (`R21 == 1016`, `V2000 >=
 /// bcd(100)`), what the constant side asks for: `1016`, `>= bcd(100) = 256`. `None` for
 /// anything else (`T0 && !Y0`, two locations compared).

@@ -12,7 +12,8 @@ use crate::debugger::expr::Expr;
 use crate::debugger::history::{self, Change, UserEvent};
 use crate::machine::project::Project;
 use crate::machine::{
-    JsonMap, Loc, Machine, MachineView, Pos, RunState, SpaceKind, StopReason, value,
+    Diagnostic, JsonMap, Loc, Machine, MachineView, Pos, RunState, Severity, SpaceKind, StopReason,
+    value,
 };
 use crate::registry::{AtLimit, Dialect};
 
@@ -478,3 +479,37 @@ pub fn run_engine_probed(
     }
     (run, broke, error)
 }
+
+/// The runner's one JSON object for a program that did not assemble: its dialect, the status
+/// `not assembled` and each diagnostic with its file (as the command line named it), line,
+/// column, severity and message, so a script or a grading loop records why nothing ran.
+pub fn not_assembled_json(
+    dialect: &Dialect,
+    project: &Project,
+    top_path: &str,
+    diagnostics: &[Diagnostic],
+) -> Value {
+    let diagnostics: Vec<Value> = (diagnostics.iter())
+        .map(|d| {
+            let (file, line) = Project::split(d.line);
+            json!({
+                "file": project.display_path(top_path, file),
+                "line": line,
+                "column": d.col,
+                "severity": match d.severity {
+                    Severity::Error => "error",
+                    Severity::Warning => "warning",
+                },
+                "message": d.message,
+            })
+        })
+        .collect();
+    json!({
+        "dialect": dialect.name,
+        "status": NOT_ASSEMBLED,
+        "diagnostics": diagnostics,
+    })
+}
+
+/// The status of a program that did not assemble, in the runner's and `check`'s JSON.
+pub const NOT_ASSEMBLED: &str = "not assembled";

@@ -189,6 +189,20 @@ mod tml {
         m
     }
 
+    /// Issue #43 item 4: `<< n` moves the product's bits 47−n..0 up to 47..n.
+    #[test]
+    fn a_left_shift_names_the_bits_that_move() {
+        let m = to_line("int v;\nv = 4694;\nv * 293 << 12;\nEND;\n", 4);
+        let b = last_multiply(&m).expect("a multiply ran");
+        assert!(
+            b.notes
+                .iter()
+                .any(|n| n == "<< 12: bits 35..0 of the product move to 47..12; low bits are 0"),
+            "{:?}",
+            b.notes
+        );
+    }
+
     #[test]
     fn a_fixed_product_is_32_16_with_its_binary_point_and_real_line() {
         // §5.3: a fixed A makes a 32.16 product. 1.5 (98304) × 3 = 294912 = 4.5.

@@ -126,3 +126,67 @@ fn call_ret_sums_squares() {
     assert_eq!(m.reg(20), 0);
     assert!(m.call_stack_lines().is_empty());
 }
+
+/// A move's comment that names its acceleration or speed in counts/s² or counts/s says what its
+/// operands are (spec §6: a = accel / 2^26 counts/tick², v = vel / 2^26 counts/tick, a tick of
+/// 120 µs), within half a percent: what a student reads beside the numbers is what they do.
+#[test]
+fn the_examples_moves_are_commented_in_the_units_they_run_at() {
+    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("assets/examples");
+    let tick = 120e-6;
+    let mut checked = 0;
+    for entry in std::fs::read_dir(dir).expect("the examples") {
+        let path = entry.expect("an entry").path();
+        if path.extension().is_none_or(|e| e != "qsl") {
+            continue;
+        }
+        let text = std::fs::read_to_string(&path).expect("an example");
+        for line in text.lines() {
+            let Some((code, comment)) = line.split_once(';') else {
+                continue;
+            };
+            let words: Vec<&str> = code
+                .split([' ', ',', '\t'])
+                .filter(|w| !w.is_empty())
+                .collect();
+            let Some(at) = words
+                .iter()
+                .position(|w| ["MAV", "MRV", "RAV", "RRV"].contains(w))
+            else {
+                continue;
+            };
+            let number = |i: usize| words.get(at + i).and_then(|w| w.parse::<f64>().ok());
+            let (Some(accel), Some(vel)) = (number(2), number(3)) else {
+                continue;
+            };
+            let stated = |unit: &str| {
+                let before = comment.split(unit).next()?;
+                let figure = before.split([' ', '(']).rfind(|w| !w.is_empty())?;
+                figure.replace([',', '_'], "").parse::<f64>().ok()
+            };
+            let close = |a: f64, b: f64| (a - b).abs() <= b.abs() * 0.005;
+            let per_s2 = accel / 2f64.powi(26) / (tick * tick);
+            let per_s = vel / 2f64.powi(26) / tick;
+            if let Some(said) = stated("counts/s²") {
+                assert!(
+                    close(said, per_s2),
+                    "{}: {line}: {per_s2:.0} counts/s²",
+                    path.display()
+                );
+                checked += 1;
+            }
+            let speed_unit = ["counts/s,", "counts/s)"]
+                .into_iter()
+                .find(|u| comment.contains(u));
+            if let Some(said) = speed_unit.and_then(stated) {
+                assert!(
+                    close(said, per_s),
+                    "{}: {line}: {per_s:.0} counts/s",
+                    path.display()
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked >= 3, "read the moves' comments ({checked})");
+}

@@ -132,6 +132,34 @@ fn vendor_srb_follows_the_stated_rule() {
     assert_eq!(var(&m, "int_var"), 14);
 }
 
+/// Issue #43 item 3: the words say bits were lost only when a set bit was dropped, and which.
+#[test]
+fn a_shifted_product_says_what_it_lost_and_only_then() {
+    let explain = |src: &str| {
+        let mut m = machine(src).unwrap_or_else(|e| panic!("{e:?}"));
+        m.run_until(10, |_| false);
+        (m.preg_signed(), m.explain_last().expect("an explanation"))
+    };
+    // 100000 × 3 = 300000 = 18750 × 16: the 4 bits shifted out are 0.
+    let (preg, text) = explain("long l; int a; l = 100000; a = 3; l * a >> 4;");
+    assert_eq!(preg, 18_750);
+    assert!(!text.contains("lost"), "{text}");
+    // 100001 × 3 = 300003 = 18750 × 16 + 3: the low bits 3 go.
+    let (preg, text) = explain("long l; int a; l = 100001; a = 3; l * a >> 4;");
+    assert_eq!(preg, 18_750);
+    assert!(
+        text.ends_with("(low bits 3 of 2^4 lost); product 300003"),
+        "{text}"
+    );
+    // 1 × 1 << 1 = 2 fits in 48 bits.
+    let (preg, text) = explain("int x; x = 1; x * 1 << 1;");
+    assert_eq!(preg, 2);
+    assert!(!text.contains("lost"), "{text}");
+    // 2147483647 × 32767 = 70366596661249 < 2^46; << 4 passes 2^49, beyond PREG's signed 48.
+    let (_, text) = explain("long l; int a; l = 2147483647; a = 32767; l * a << 4;");
+    assert!(text.contains("(high bits beyond 48 lost)"), "{text}");
+}
+
 #[test]
 fn the_issues_explanations() {
     let mut m = machine("int Var1; Var1 = 4694; Var1 * 293 << 12;").unwrap();

@@ -3,8 +3,8 @@
 //! shift and the real-number line; and the `W32 /= V16;` at the program counter (§5.4) with the
 //! remainder it discards. Decimals and percentages are text for people, not machine values.
 
-use super::Tml;
 use super::program::Op;
+use super::{LastMultiply, Tml};
 use crate::machine::bits::{BitRow, Breakdown, Keep, decimal, relative_error};
 
 /// Whether A of the multiply on `line` is a fixed datum (its product is then 32.16).
@@ -14,6 +14,19 @@ fn a_is_fixed(m: &Tml, line: usize) -> bool {
         .iter()
         .filter(|s| s.line == line)
         .any(|s| matches!(s.op, Op::Multiply { a, .. } if a.is_fixed()))
+}
+
+/// What the last multiply's shift dropped: the value of the low bits a `>> n` shifted out (0
+/// when none of them was set), and whether set bits were lost above PREG's 48 (the shifted
+/// product is not what PREG holds).
+pub fn multiply_losses(m: &Tml, mult: &LastMultiply) -> (i128, bool) {
+    let n = u32::from(mult.shift).min(126);
+    let (shifted, low) = if mult.left {
+        (mult.product << n, 0)
+    } else {
+        (mult.product >> n, mult.product & ((1i128 << n) - 1))
+    };
+    (low, i128::from(m.preg_signed()) != shifted)
 }
 
 /// The last multiplication: p = A × B exactly, then PREG = p shifted, kept to 48 bits.
@@ -38,13 +51,15 @@ pub fn last_multiply(m: &Tml) -> Option<Breakdown> {
     let preg = m.preg_signed();
     let mut notes = Vec::new();
     if mult.left && n > 0 {
+        // Bits 47−n..0 land in 47..n; bits 47..48−n leave PREG.
+        let top = 47u32.saturating_sub(n);
         notes.push(format!(
-            "<< {n}: bits 47..{} of the product move to 47..{n}; low bits are 0",
-            47 - n.min(47)
+            "<< {n}: bits {top}..0 of the product move to 47..{}; low bits are 0",
+            n.min(47)
         ));
     }
     if !mult.left && n > 0 {
-        let lost = mult.product & ((1i128 << n) - 1);
+        let (lost, _) = multiply_losses(m, &mult);
         notes.push(if lost == 0 {
             format!(">> {n}: the {n} low bits dropped are 0: nothing lost")
         } else {

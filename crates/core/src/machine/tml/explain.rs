@@ -131,12 +131,15 @@ pub fn explain(m: &Tml) -> Option<String> {
                 Value::Imm(_) => mult.b.to_string(),
                 Value::Var(op) => format!("{} {}", name(m, &op), mult.b),
             };
-            let lost = if left && n > 0 {
-                " (high bits beyond 48 lost)"
-            } else if !left && n > 0 {
-                " (low bits lost)"
-            } else {
-                ""
+            // Said only when a set bit was dropped, with what was dropped.
+            let (low, high) = super::arith::multiply_losses(m, &mult);
+            let lost = match (low, high) {
+                (0, false) => String::new(),
+                (0, true) => " (high bits beyond 48 lost)".to_string(),
+                (low, false) => format!(" (low bits {low} of 2^{n} lost)"),
+                (low, true) => {
+                    format!(" (low bits {low} of 2^{n} and high bits beyond 48 lost)")
+                }
             };
             format!(
                 "PREG = ({} {} × {by}) {} {n} = 0x{:012X}{lost}; product {}",
