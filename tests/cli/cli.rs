@@ -140,7 +140,8 @@ fn assembly_errors_exit_2_with_every_diagnostic_on_stderr() {
         (&Value::from(1), &Value::from(1))
     );
     assert_eq!(diagnostics[0]["severity"], "error");
-    assert_eq!(diagnostics[0]["message"], "unknown command 'CLK'");
+    let first = diagnostics[0]["message"].as_str().expect("a message");
+    assert!(first.starts_with("unknown command 'CLK'"), "{first}");
     assert_eq!(
         (&diagnostics[1]["line"], &diagnostics[1]["column"]),
         (&Value::from(3), &Value::from(5))

@@ -48,6 +48,11 @@ fn the_runner_speaks_opennet() {
     let bad = scratch_file("bad.opennet", "LD I0\nOUT Q0\n");
     let out = servoscope(&["run", bad.to_str().unwrap(), "--json"]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(out.stdout.is_empty());
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    assert_eq!(
+        (&j["dialect"], &j["status"]),
+        (&"opennet".into(), &"not assembled".into())
+    );
+    assert_eq!(j["diagnostics"][0]["line"], 1, "{j}");
     let _ = std::fs::remove_file(bad);
 }

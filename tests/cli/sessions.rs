@@ -38,10 +38,16 @@ fn bad_files_are_refused_and_nothing_is_lost() {
         if what == "newer" {
             assert!(message.contains("newer servoscope"), "{message}");
         }
-        // The runner: exit 2, a message on stderr, nothing on stdout.
+        // The runner: exit 2 and a message on stderr; on stdout nothing, or for a program that
+        // does not assemble, the one JSON object saying so.
         let out = servoscope(&["run", path.to_str().unwrap(), "--json"]);
         assert_eq!(out.status.code(), Some(2), "{what}");
-        assert!(out.stdout.is_empty(), "{what}");
+        if what == "bad program" {
+            let j: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+            assert_eq!(j["status"], "not assembled", "{what}");
+        } else {
+            assert!(out.stdout.is_empty(), "{what}");
+        }
         assert!(!out.stderr.is_empty(), "{what}");
         let _ = std::fs::remove_file(&path);
     }

@@ -39,7 +39,12 @@ fn the_runner_speaks_tml() {
     let bad = scratch_file("bad.tml", "int a;\na = ;\nGOTO x;");
     let out = servoscope(&["run", bad.to_str().unwrap(), "--json"]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(out.stdout.is_empty());
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    assert_eq!(j["status"], "not assembled");
+    let lines: Vec<&serde_json::Value> = (j["diagnostics"].as_array().expect("a list").iter())
+        .map(|d| &d["line"])
+        .collect();
+    assert_eq!(lines, [2, 3], "{j}");
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains(":2:") && stderr.contains(":3:"), "{stderr}");
 

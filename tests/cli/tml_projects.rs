@@ -22,7 +22,11 @@ fn the_runner_names_each_file_as_reached_from_the_command_line() {
     let top = dir.join("motion.tml");
     let out = servoscope(&["run", top.to_str().unwrap(), "--json"]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(out.stdout.is_empty());
+    // The JSON names the included file and the line in it.
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    let d = &j["diagnostics"][0];
+    assert_eq!(d["file"], dir.join("main.tml").display().to_string(), "{j}");
+    assert_eq!((&d["line"], &d["column"]), (&7.into(), &5.into()), "{j}");
     let stderr = String::from_utf8_lossy(&out.stderr);
     let want = format!(
         "{}:7:5: error: undeclared variable or undefined label 'CPOSS' (did you mean 'CPOS'?)",
