@@ -67,6 +67,7 @@ impl OpenNet {
         }
     }
 
+    #[inline]
     pub(super) fn push(stack: &mut Vec<bool>, v: bool) {
         if stack.len() < STACK_DEPTH {
             stack.push(v);

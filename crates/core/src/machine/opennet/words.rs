@@ -6,6 +6,7 @@ use super::program::{Value, Word};
 
 impl OpenNet {
     /// The pattern of `words` words at `w`, advanced by `offset` words.
+    #[inline]
     pub fn read_word(&self, w: &Word, words: u32, offset: u32) -> u32 {
         match *w {
             Word::Const(v) => v,
@@ -46,6 +47,7 @@ impl OpenNet {
         }
     }
 
+    #[inline]
     pub fn write_word(&mut self, w: &Word, words: u32, offset: u32, value: u32) {
         match *w {
             Word::Const(_) => {}
@@ -97,11 +99,13 @@ impl OpenNet {
     }
 
     /// The offset of a word operand in REP cycle `c`: `(R)` operands advance by their block.
+    #[inline]
     pub(super) fn offset(w: &Word, block: u32, c: u32) -> u32 {
         if w.repeats() { c * block } else { 0 }
     }
 
     /// A preset or compared value now.
+    #[inline]
     pub(super) fn value(&self, v: Value) -> u16 {
         match v {
             Value::Const(c) => c,
