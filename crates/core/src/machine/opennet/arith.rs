@@ -6,8 +6,7 @@ use super::{ExecError, M8004, OpenNet};
 
 impl OpenNet {
     /// Spec §5.4: what ADD/SUB store, and whether the result was out of range. Inlined: the
-    /// fast loop calls it from another module (the split of opennet/mod.rs cost
-    /// signed_overflow.opennet a quarter of its speed without it).
+    /// fast loop calls it from another module.
     #[inline]
     pub fn store_add(ty: Ty, r: i64) -> (u32, bool) {
         let in_range = r >= ty.min() && r <= ty.max();
