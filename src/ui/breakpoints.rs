@@ -101,7 +101,7 @@ fn row(ui: &mut egui::Ui, debugger: &Debugger, i: usize, b: &Breakpoint, out: &m
                 }
             }
             BreakKind::Data { .. } => {
-                ui.label(RichText::new(b.describe()).strong());
+                ui.label(RichText::new(b.describe(debugger.machine())).strong());
             }
         }
         ui.label(RichText::new(kind).small().color(p.dim));
@@ -239,7 +239,10 @@ fn data_breakpoint(debugger: &Debugger, view: &BreakpointsView) -> Result<Breakp
         0 => DataTrigger::Write,
         1 => DataTrigger::Change,
         _ => {
-            let raw = value::parse_value(&view.equals, info.width).map_err(|e| e.to_string())?;
+            // Read as the location reads (plain digits are BCD in a DL205 V word), as the
+            // register Set field does.
+            let (raw, _) = value::parse_in(&view.equals, info.width, info.reading())
+                .map_err(|e| e.to_string())?;
             let v = if info.signed {
                 value::sign_extend(raw, info.width)
             } else {

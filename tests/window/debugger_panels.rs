@@ -98,9 +98,9 @@ fn a_data_breakpoint_from_the_form_and_a_log_point_from_the_list() {
         h.state().debugger.event(),
         Some(Event::Watchpoint {
             line: 3,
-            new: 1,
+            new,
             ..
-        })
+        }) if new == "1"
     ));
     h.get_by_label_contains("R12 written at line 3: 0 -> 1");
     // Turn it into a log point: the run no longer stops, the Log panel shows the messages.
@@ -117,6 +117,36 @@ fn a_data_breakpoint_from_the_form_and_a_log_point_from_the_list() {
     h.run_steps(2);
     h.get_by_label_contains("there is no location named 'R999'");
     assert_eq!(h.state().debugger.breakpoint_list().len(), 1);
+}
+
+/// #43 item 1: "equals 12" on a DL205 V word is BCD 12 (0x0012), as the word is shown, and
+/// the list says so in BCD.
+#[test]
+fn a_data_breakpoint_value_is_read_as_its_location_reads() {
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.load_program_as(
+        servoscope_core::registry::by_name("dl205").expect("DL205 is registered"),
+        "parts.dl205",
+        include_str!("../../assets/examples/parts_counter.dl205"),
+    );
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1400.0, 900.0))
+        .build_ui_state(|ui, app: &mut ServoscopeApp| app.show(ui), app);
+    h.run_steps(2);
+    open_tab(&mut h, Pane::Breakpoints);
+    type_into(&mut h, "Data breakpoint location", "V1000");
+    h.get_by_label("Data breakpoint trigger").click();
+    h.run_steps(2);
+    h.get_by_label("equals").click();
+    h.run_steps(2);
+    type_into(&mut h, "Data breakpoint value", "12");
+    h.get_by_label("Add data breakpoint").click();
+    h.run_steps(2);
+    assert_eq!(
+        h.state().debugger.breakpoint_list(),
+        [Breakpoint::data("V1000", DataTrigger::Equal(0x12))]
+    );
+    h.get_by_label("V1000 becomes 12");
 }
 
 #[test]

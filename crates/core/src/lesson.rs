@@ -69,10 +69,11 @@ impl CheckOutcome {
             if !out.is_empty() {
                 out.push_str(", ");
             }
-            let _ = write!(out, "{name} = {number}");
-            if let Some(reading) = reading {
-                let _ = write!(out, " ({reading})");
+            match reading {
+                Some(reading) => write!(out, "{name} = {reading}"),
+                None => write!(out, "{name} = {number}"),
             }
+            .ok();
         }
         if let Some(expected) = self.expected.as_ref().filter(|_| !self.pass) {
             if !out.is_empty() {
@@ -132,9 +133,9 @@ pub fn evaluate(step: usize, text: &str, m: &dyn MachineView) -> CheckOutcome {
         let reading = match info.reading() {
             Format::Signed | Format::Unsigned => None,
             format => Some(format!(
-                "{} {}",
+                "{} ({})",
+                format.show(m.read(loc), info.width),
                 format.name(),
-                format.show(m.read(loc), info.width)
             )),
         };
         outcome.values.push((info.name, number));
@@ -213,11 +214,30 @@ fn expected_side(text: &str, m: &dyn MachineView) -> Option<String> {
         return None;
     }
     let value = constant.eval(m);
+    // Against one location read in BCD or Q16.16, the constant in that reading too: `V0 ==
+    // bcd(39)` expects 39, as the view shows V0; a plain number there names its BCD digits.
+    let left: String = chars[..at].iter().collect();
+    let reading = m
+        .find(left.trim())
+        .and_then(|loc| m.info(loc))
+        .filter(|info| matches!(info.reading(), Format::Bcd | Format::Q16));
     let plain = right.parse::<i64>().is_ok_and(|n| n == value);
-    let shown = if plain {
-        right.to_string()
-    } else {
-        format!("{right} = {value}")
+    let shown = match reading {
+        Some(info) => {
+            let format = info.reading();
+            let shown = format.show(value as u64, info.width);
+            let written_so = right.to_ascii_lowercase().starts_with(match format {
+                Format::Bcd => "bcd(",
+                _ => "q16(",
+            });
+            if written_so {
+                shown
+            } else {
+                format!("{right} ({} {shown})", format.name())
+            }
+        }
+        None if plain => right.to_string(),
+        None => format!("{right} = {value}"),
     };
     Some(if op == "==" {
         shown

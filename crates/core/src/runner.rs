@@ -400,7 +400,7 @@ fn trace_line(
     insert_file(&mut out, files, line);
     out.insert("mnemonic".into(), json!(word));
     let written: JsonMap = (m.instruction_written().into_iter())
-        .filter_map(|loc| Some((m.info(loc)?.name, json!(crate::machine::value_of(m, loc)))))
+        .filter_map(|loc| Some((m.info(loc)?.name, crate::machine::json_in_reading(m, loc))))
         .collect();
     out.insert("written".into(), written.into());
     // The status bar's words for the step, overflow and carry notes included.

@@ -32,11 +32,19 @@ pub enum DataTrigger {
 }
 
 impl DataTrigger {
-    pub fn describe(self) -> String {
+    /// "written", "changed", "becomes 12": the value as `location` reads in `m` (a DL205 V
+    /// word's BCD digits).
+    pub fn describe(self, m: &dyn MachineView, location: &str) -> String {
         match self {
             DataTrigger::Write => "written".to_string(),
             DataTrigger::Change => "changed".to_string(),
-            DataTrigger::Equal(v) => format!("becomes {v}"),
+            DataTrigger::Equal(v) => match m.find(location) {
+                Some(loc) => format!(
+                    "becomes {}",
+                    crate::machine::show_in_reading(m, loc, v as u64)
+                ),
+                None => format!("becomes {v}"),
+            },
         }
     }
 }
@@ -125,11 +133,13 @@ impl Breakpoint {
             && self.log.is_empty()
     }
 
-    /// "line 7", "R4 changed".
-    pub fn describe(&self) -> String {
+    /// "line 7", "R4 changed", "V1000 becomes 12" (values as the location reads in `m`).
+    pub fn describe(&self, m: &dyn MachineView) -> String {
         match &self.kind {
             BreakKind::Line(l) => format!("line {l}"),
-            BreakKind::Data { location, trigger } => format!("{location} {}", trigger.describe()),
+            BreakKind::Data { location, trigger } => {
+                format!("{location} {}", trigger.describe(m, location))
+            }
         }
     }
 }

@@ -12,7 +12,7 @@ use std::collections::VecDeque;
 use std::fmt::Write as _;
 
 use super::{Debugger, Event};
-use crate::machine::{Loc, MachineView, Pos, value_of};
+use crate::machine::{Loc, MachineView, Pos, shown_value};
 
 /// Which executed instructions the log shows.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -45,7 +45,8 @@ pub struct LogRow {
     pub line: usize,
     pub explanation: String,
     /// The locations it wrote, by name, with their values after it.
-    pub written: Vec<(String, i64)>,
+    /// The values as each location reads (a DL205 V word's BCD digits).
+    pub written: Vec<(String, String)>,
 }
 
 /// A stretch of the execution log.
@@ -71,7 +72,7 @@ fn row_of(m: &dyn MachineView) -> LogRow {
         written: m
             .instruction_written()
             .into_iter()
-            .filter_map(|loc| Some((m.info(loc)?.name, value_of(m, loc))))
+            .filter_map(|loc| Some((m.info(loc)?.name, shown_value(m, loc))))
             .collect(),
     }
 }
@@ -291,7 +292,7 @@ impl Debugger {
         if explanation.is_empty() {
             explanation.push_str("the machine");
         }
-        let value = value_of(m, loc);
+        let value = shown_value(m, loc);
         let _ = write!(explanation, " ({name} = {value})");
         self.event = Some(Event::WrittenBy {
             location: name,

@@ -513,6 +513,45 @@ pub fn all_locations(m: &dyn MachineView) -> Vec<Loc> {
 }
 
 /// The value of `loc` as a number: sign-extended from its width when the location is signed.
+/// `raw`, a bit pattern of `loc`, as the location reads: BCD digits for a DL205 V word
+/// (0x0039 → `39`), Q16.16 for a TML fixed, signed or unsigned decimal otherwise. Every text
+/// that shows a location's value (status bar, Log, "who wrote this?", check output) uses it.
+pub fn show_in_reading(m: &dyn MachineView, loc: Loc, raw: u64) -> String {
+    match m.info(loc) {
+        Some(info) => info.reading().show(raw, info.width),
+        None => raw.to_string(),
+    }
+}
+
+/// The present value of `loc` as the location reads ([`show_in_reading`]).
+pub fn shown_value(m: &dyn MachineView, loc: Loc) -> String {
+    show_in_reading(m, loc, m.read(loc))
+}
+
+/// The present value of `loc` as a JSON number in the location's reading (a BCD word's
+/// digits, a Q16.16's fraction); a BCD word holding a nibble over 9 is the text
+/// `"1A (not BCD)"`. For `--trace`, whose readers compare with what the views show.
+pub fn json_in_reading(m: &dyn MachineView, loc: Loc) -> serde_json::Value {
+    let raw = m.read(loc);
+    let Some(info) = m.info(loc) else {
+        return serde_json::json!(raw);
+    };
+    let raw = raw & value::mask(info.width);
+    match info.reading() {
+        value::Format::Bcd => {
+            let digits = value::bcd(raw);
+            digits
+                .parse::<u64>()
+                .map_or_else(|_| serde_json::json!(digits), |n| serde_json::json!(n))
+        }
+        value::Format::Q16 => {
+            serde_json::json!(value::sign_extend(raw, info.width) as f64 / 65536.0)
+        }
+        value::Format::Signed => serde_json::json!(value::sign_extend(raw, info.width)),
+        _ => serde_json::json!(raw),
+    }
+}
+
 pub fn value_of(m: &dyn MachineView, loc: Loc) -> i64 {
     let raw = m.read(loc);
     match m.info(loc) {

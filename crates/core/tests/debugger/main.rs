@@ -7,6 +7,7 @@ mod breakpoints;
 mod faults_and_flow;
 mod long_runs;
 mod opennet_debugger;
+mod readings;
 mod threaded;
 mod time_travel;
 mod trace;

@@ -252,3 +252,43 @@ fn nested_blocks_connect_as_the_stack_combines_them() {
     assert_eq!(y0.col, y1.col, "coils line up at the right rail");
     assert!(y1.row > y0.row);
 }
+
+/// #43 item 7: before the first scan no rung has been evaluated, so no wire has power (a
+/// normally closed contact's rung reached Y1 in green while Y1 was off); after one scan the
+/// same rung conducts and its coil is on.
+#[test]
+fn no_power_flows_before_the_first_scan() {
+    use servoscope_core::machine::plc::ladder::{RungState, power_of};
+    for (dialect, source, coil) in [
+        ("dl205", "STRN X0\nOUT Y1\nEND\n", "Y1"),
+        ("opennet", "LODN I0\nOUT Q1\nEND\n", "Q1"),
+    ] {
+        let d = by_name(dialect).expect("registered");
+        let mut engine = match d.open_text(source, &d.default_settings()) {
+            Ok(e) => e,
+            Err(diags) => panic!("assembles: {diags:?}"),
+        };
+        let ladder = engine.machine().as_plc().expect("a PLC").ladder();
+        let before = power_of(&ladder, engine.machine());
+        assert!(
+            before.iter().all(|r| r.state == RungState::NotYet
+                && r.node.iter().all(|n| !n)
+                && (r.element.iter().zip(&ladder.rungs[0].elements))
+                    .all(|(on, e)| !on || matches!(e.symbol, Symbol::Contact { .. }))),
+            "{dialect}: {before:?}"
+        );
+        engine.run_headless(&[], 1);
+        let loc = engine.machine().find(coil).expect("the coil");
+        assert_eq!(
+            engine.machine().read(loc),
+            1,
+            "{dialect}: {coil} on after a scan"
+        );
+        let after = power_of(&ladder, engine.machine());
+        assert_eq!(after[0].state, RungState::Done, "{dialect}");
+        assert!(
+            after[0].element.iter().all(|&on| on),
+            "{dialect}: {after:?}"
+        );
+    }
+}

@@ -25,8 +25,9 @@ pub enum Event {
     Watchpoint {
         location: String,
         line: usize,
-        old: i64,
-        new: i64,
+        /// The values as the location reads (a DL205 V word's BCD digits).
+        old: String,
+        new: String,
     },
     /// "Who wrote this?" went to the write of `location` at `at`: by the instruction on
     /// `line`, or by the user's edit (no line).

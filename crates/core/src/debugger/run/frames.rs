@@ -237,7 +237,15 @@ impl Debugger {
         });
         match data {
             Some((location, old, new)) => {
-                let line = self.machine().last_line().unwrap_or(0);
+                let m = self.machine();
+                let line = m.last_line().unwrap_or(0);
+                let (old, new) = match m.find(&location) {
+                    Some(loc) => (
+                        crate::machine::show_in_reading(m, loc, old as u64),
+                        crate::machine::show_in_reading(m, loc, new as u64),
+                    ),
+                    None => (old.to_string(), new.to_string()),
+                };
                 self.engine.mark(MarkKind::Breakpoint, line);
                 Event::Watchpoint {
                     location,

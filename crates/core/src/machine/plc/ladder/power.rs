@@ -91,6 +91,8 @@ pub fn power_of(ladder: &Ladder, m: &dyn crate::machine::MachineView) -> Vec<Run
             let state = match lines.iter().find(|(l, _)| *l == first).map(|(_, p)| *p) {
                 Some(crate::machine::LinePower::NotRun) => RungState::NotRun,
                 Some(crate::machine::LinePower::MasterOff) => RungState::MasterOff,
+                // Before the first scan no rung has been evaluated: nothing has power yet.
+                _ if now == crate::machine::Pos::default() => RungState::NotYet,
                 _ if now.step > 0 && pc.is_some_and(|pc| first >= pc) => RungState::NotYet,
                 _ => RungState::Done,
             };
