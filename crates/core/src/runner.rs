@@ -386,12 +386,17 @@ fn trace_line(
     files: Option<&Project>,
 ) -> String {
     let line = m.last_line();
-    let word = line
-        .and_then(|l| {
-            let (file, local) = Project::split(l);
-            source.get(file)?.get(local.wrapping_sub(1))
-        })
-        .map_or("", |text| mnemonic(text));
+    // A line of several statements (TML) names each by its own text.
+    let word = m.last_statement_text().map_or_else(
+        || {
+            line.and_then(|l| {
+                let (file, local) = Project::split(l);
+                source.get(file)?.get(local.wrapping_sub(1))
+            })
+            .map_or("", |text| mnemonic(text))
+        },
+        mnemonic,
+    );
     let mut out = JsonMap::new();
     out.insert("n".into(), json!(n));
     out.insert("tick".into(), json!(started.tick));

@@ -343,6 +343,11 @@ pub trait MachineView: Send + 'static {
     }
     /// The last executed instruction in words, with its operand values. Built on demand.
     fn explain_last(&self) -> Option<String>;
+    /// The text of the statement the last step executed, where a line may hold several (TML's
+    /// `a = 1; UPD;`); `None` where the line's text is the instruction.
+    fn last_statement_text(&self) -> Option<&str> {
+        None
+    }
     /// 1-based line of the last executed instruction.
     fn last_line(&self) -> Option<usize>;
 

@@ -433,9 +433,10 @@ impl MachineView for SilverLode {
         regs.sort_unstable();
         regs.dedup();
         let mut out: Vec<Loc> = regs.into_iter().map(|r| reg(r as u32)).collect();
-        // Every calculation and queue command sets the ISW flags (spec §4); DLY its DELAY_DONE.
+        // Every calculation and queue command sets the ISW flags (spec §4); DLY its DELAY_DONE;
+        // a failed flag-variant queue command its NEGATIVE flag.
         let last = self.s.last;
-        let sets_isw = last.outcome == Outcome::Done
+        let sets_isw = matches!(last.outcome, Outcome::Done | Outcome::Failed)
             && matches!(
                 self.program.instrs.get(last.pc as usize),
                 Some(Instr::Clc { .. } | Instr::Cld { .. } | Instr::Clx { .. } | Instr::Dly { .. })

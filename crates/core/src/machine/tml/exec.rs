@@ -4,6 +4,7 @@
 use super::program::{AddKind, Data, EventSpec, Flat, Op, Operand, Slot, Value};
 use super::{
     Event, Fault, LastMultiply, PREG_MASK, STACK_DEPTH, STATEMENTS_PER_TICK, Tml, d, der, mer, srl,
+    upd_ignored,
 };
 use crate::machine::{MachineView, Pos, Quiet, Span, StopReason, WriteSet};
 
@@ -206,7 +207,7 @@ impl Tml {
             }
             Op::Relative(relative) => self.relative = relative,
             Op::Tum(one) => self.tum1 = one,
-            Op::Upd => self.update(),
+            Op::Upd => vals = [i64::from(self.update()), 0, 0],
             Op::Stop => {
                 if self.profile.active {
                     self.profile.stopping = true;
@@ -303,16 +304,26 @@ impl Tml {
     }
 
     /// `UPD` (spec §5.8): start or retarget the profile, or ignore it with the error bits set.
-    fn update(&mut self) {
+    /// Returns why it was ignored ([`upd_ignored`] bits; 0 when it was not).
+    fn update(&mut self) -> u8 {
         let (cspd, cacc) = (
             sx32(self.data[d::CSPD as usize]),
             sx32(self.data[d::CACC as usize]),
         );
         let axis_on = self.data[d::SRL as usize] & srl::AXIS_ON != 0;
-        if !self.mode_pp || !axis_on || cspd <= 0 || cacc <= 0 {
+        let why = [
+            (!self.mode_pp, upd_ignored::NO_MODE_PP),
+            (!axis_on, upd_ignored::AXIS_OFF),
+            (cspd <= 0, upd_ignored::CSPD),
+            (cacc <= 0, upd_ignored::CACC),
+        ]
+        .into_iter()
+        .filter(|(bad, _)| *bad)
+        .fold(0, |all, (_, bit)| all | bit);
+        if why != 0 {
             self.data[d::MER as usize] |= mer::COMMAND_ERROR;
             self.data[d::DER as usize] |= der::UPD_IGNORED;
-            return;
+            return why;
         }
         let p = &mut self.profile;
         if !self.tum1 {
@@ -330,6 +341,7 @@ impl Tml {
         p.active = true;
         p.stopping = false;
         self.srl_set(srl::MOTION_COMPLETE, false);
+        0
     }
 
     /// Phases 3–6 of a tick.

@@ -2,7 +2,7 @@
 //! << 12 = 0x00014FC6E000").
 
 use super::program::{AddKind, Data, Op, Operand, Value};
-use super::{PREDEFINED, Tml};
+use super::{PREDEFINED, Tml, d};
 use crate::machine::value::{q16_exact, remainder_note, wrap_note};
 
 fn name(m: &Tml, op: &Operand) -> String {
@@ -254,7 +254,8 @@ pub fn explain(m: &Tml) -> Option<String> {
         ),
         Op::Upd => {
             let p = &m.profile;
-            if p.active {
+            let why = m.last_vals[0] as u8;
+            if why == 0 {
                 format!(
                     "UPD: move to {} at speed {} and acceleration {} (counts/tick)",
                     p.end,
@@ -262,7 +263,23 @@ pub fn explain(m: &Tml) -> Option<String> {
                     q16_exact(p.accel)
                 )
             } else {
-                "UPD: ignored (MER bit 14, DER bit 4): no MODE PP, axis off, or CSPD/CACC not positive".into()
+                use super::upd_ignored as u;
+                let cspd = q16_exact(i64::from(m.data[d::CSPD as usize] as i32));
+                let cacc = q16_exact(i64::from(m.data[d::CACC as usize] as i32));
+                let reasons: Vec<String> = [
+                    (u::NO_MODE_PP, "no MODE PP was given".to_string()),
+                    (u::AXIS_OFF, "the axis is off (AXISON first)".to_string()),
+                    (u::CSPD, format!("CSPD is {cspd}, not positive")),
+                    (u::CACC, format!("CACC is {cacc}, not positive")),
+                ]
+                .into_iter()
+                .filter(|(bit, _)| why & bit != 0)
+                .map(|(_, text)| text)
+                .collect();
+                format!(
+                    "UPD: ignored (MER bit 14, DER bit 4): {}",
+                    reasons.join("; ")
+                )
             }
         }
         Op::Stop => "STOP: decelerate to standstill at CACC".into(),

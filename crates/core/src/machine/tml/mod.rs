@@ -372,6 +372,13 @@ pub mod der {
     pub const STACK_UNDERFLOW: u32 = 1 << 1;
     pub const UPD_IGNORED: u32 = 1 << 4;
 }
+/// Why an `UPD` was ignored (the last statement's first value; several may hold at once).
+pub mod upd_ignored {
+    pub const NO_MODE_PP: u8 = 1 << 0;
+    pub const AXIS_OFF: u8 = 1 << 1;
+    pub const CSPD: u8 = 1 << 2;
+    pub const CACC: u8 = 1 << 3;
+}
 
 /// PREG's 48 bits.
 pub const PREG_MASK: u64 = (1 << 48) - 1;

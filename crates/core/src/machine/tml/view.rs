@@ -263,6 +263,10 @@ impl Tml {
                 Op::Sap(_) => [data_loc(d::APOS), data_loc(d::TPOS)]
                     .into_iter()
                     .for_each(&mut f),
+                // An ignored UPD sets its error bits (spec §5.8).
+                Op::Upd if self.last_vals[0] != 0 => [data_loc(d::MER), data_loc(d::DER)]
+                    .into_iter()
+                    .for_each(&mut f),
                 _ => {}
             }
         }
@@ -490,6 +494,10 @@ impl MachineView for Tml {
     }
     fn explain_last(&self) -> Option<String> {
         super::explain::explain(self)
+    }
+    fn last_statement_text(&self) -> Option<&str> {
+        let stmt = self.last.and_then(|i| self.program.stmts.get(i as usize))?;
+        Some(&stmt.text)
     }
     fn last_line(&self) -> Option<usize> {
         self.last
