@@ -197,6 +197,11 @@ impl ServoscopeApp {
         self.session_path = Some(path.to_path_buf());
         self.fresh_views();
         self.apply_view_settings(&session.view);
+        if let Some(window) = &session.window {
+            super::window_state::restore(self.ctx.as_ref(), window, &mut self.layout);
+            // The tabs come back as they were left, not with the dialect's best in front.
+            self.focus_panel_pending = false;
+        }
         // After the dialect's panels are in place, so the lesson's tab is the one in front.
         self.set_lesson(
             session

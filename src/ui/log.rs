@@ -263,7 +263,7 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut LogView, out: &mu
         let pitch = row_height + ui.spacing().item_spacing.y;
         area = area.vertical_scroll_offset(pitch * (log.rows.len() + 1) as f32);
     }
-    area.show_rows(ui, row_height, log.rows.len(), |ui, range| {
+    let shown = area.show_rows(ui, row_height, log.rows.len(), |ui, range| {
         for r in &log.rows[range] {
             let written: Vec<String> = r.written.iter().map(|(n, v)| format!("{n}={v}")).collect();
             let text = format!(
@@ -294,4 +294,5 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut LogView, out: &mu
             }
         }
     });
+    crate::ui::window_state::note_scroll_area(ui.ctx(), "log", shown.id);
 }

@@ -28,6 +28,7 @@ pub mod status;
 pub mod theme;
 pub mod timeline;
 pub mod watches;
+pub mod window_state;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -90,6 +91,9 @@ pub struct ServoscopeApp {
     saved_lesson: Option<servoscope_core::lesson::Lesson>,
     pub help: help::HelpView,
     pub layout: layout::Layout,
+    /// The window's egui context, from the first frame on: a session saves the window's
+    /// scroll positions from it.
+    ctx: Option<egui::Context>,
     /// The current dialect's own panels, and the dialect they were made for.
     panels: Vec<Box<dyn DialectPanel>>,
     /// A program was just opened: bring its best panel to the front next frame.
@@ -168,6 +172,7 @@ impl ServoscopeApp {
             saved_lesson: None,
             help: help::HelpView::default(),
             layout,
+            ctx: None,
             panels,
             focus_panel_pending: true,
             panels_for: dialect.name,
@@ -255,6 +260,7 @@ impl ServoscopeApp {
     pub fn session(&self) -> Session {
         Session {
             lesson: self.lesson.as_ref().map(|l| l.lesson.clone()),
+            window: (self.ctx.as_ref()).map(|ctx| window_state::capture(ctx, &self.layout)),
             ..Session::capture(&self.debugger, self.path.clone(), self.view_settings())
         }
     }

@@ -14,6 +14,9 @@ impl ServoscopeApp {
             return;
         }
         let ctx = ui.ctx().clone();
+        if self.ctx.is_none() {
+            self.ctx = Some(ctx.clone());
+        }
         // Which files differ from what was opened or saved: their tabs carry a •.
         let saved = self.file_text.as_deref().unwrap_or_default();
         self.code.unsaved = self

@@ -638,6 +638,7 @@ pub fn show(ui: &mut egui::Ui, debugger: &Debugger, view: &mut CodeView, out: &m
             }
         });
     view.editor_height = scrolled.inner_rect.height();
+    crate::ui::window_state::note_scroll_area(ui.ctx(), "code", scrolled.id);
 }
 
 /// After Enter: the new line starts with the indentation of the line before. Returns the caret.

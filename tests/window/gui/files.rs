@@ -464,3 +464,65 @@ fn the_open_window_selects_its_path_and_says_when_no_dialog_shows() {
     h.step();
     assert!(h.get_by_label("Path").is_focused());
 }
+
+/// The `offset:(…)` of a scroll area's saved state in a session's window text.
+fn saved_offset(window: &str, key: &str) -> Option<String> {
+    let at = window.find(&format!("\"{key}\""))?;
+    let rest = &window[at..];
+    let start = rest.find("offset:")?;
+    let end = start + rest[start..].find(')')?;
+    Some(rest[start..=end].to_string())
+}
+
+/// #43 item 5: a reopened session shows the tabs in front and the code scrolled as they were
+/// left.
+#[test]
+fn a_reopened_session_brings_back_its_tabs_and_scroll_positions() {
+    let program: String = (0..120)
+        .map(|i| format!("CLC INC, {}\n", 20 + i % 50))
+        .collect();
+    let mut h = harness(app_with(&format!("{program}END\n")));
+    h.state_mut()
+        .layout
+        .focus(&servoscope::ui::layout::Pane::Log);
+    h.state_mut().apply(
+        &egui::Context::default(),
+        servoscope::ui::Command::ShowLine(100),
+    );
+    h.run_steps(6);
+    assert!(
+        h.state()
+            .layout
+            .is_shown(&servoscope::ui::layout::Pane::Log)
+    );
+    let session = h.state().session();
+    let window = session.window.clone().expect("the window's state");
+    let code_offset = saved_offset(&window, "code").expect("the code view's scroll");
+    assert!(
+        !code_offset.contains("y:0.0"),
+        "scrolled down: {code_offset}"
+    );
+    let dir = common::scratch_dir("window-state");
+    let path = dir.join("left.ron");
+    session.save(&path).expect("saved");
+
+    let mut h = harness(app_with("END"));
+    h.run_steps(2);
+    assert!(
+        !h.state()
+            .layout
+            .is_shown(&servoscope::ui::layout::Pane::Log),
+        "a fresh window"
+    );
+    h.state_mut().open_path(path);
+    h.run_steps(6);
+    assert!(
+        h.state()
+            .layout
+            .is_shown(&servoscope::ui::layout::Pane::Log),
+        "the Log's tab in front"
+    );
+    let again = h.state().session().window.expect("the window's state");
+    assert_eq!(saved_offset(&again, "code"), Some(code_offset));
+    let _ = std::fs::remove_dir_all(&dir);
+}

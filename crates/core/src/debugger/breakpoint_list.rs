@@ -94,6 +94,11 @@ impl Debugger {
     }
 
     /// How many times a forward run passed the breakpoint with its condition holding.
+    /// Put back the hits of a saved session, in the list's order (missing ones stay 0).
+    pub fn set_breakpoint_hits(&mut self, hits: &[u64]) {
+        self.checker.borrow_mut().set_hits(hits);
+    }
+
     pub fn breakpoint_hits(&self, index: usize) -> u64 {
         self.checker.borrow().hits(index)
     }

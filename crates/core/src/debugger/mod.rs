@@ -415,6 +415,12 @@ impl Debugger {
     pub fn event(&self) -> Option<&Event> {
         self.event.as_ref()
     }
+
+    /// Put back what the status bar said when a session was saved.
+    pub fn set_event(&mut self, event: Event) {
+        self.event = Some(event);
+    }
+
     pub fn settings(&self) -> &Settings {
         &self.settings
     }

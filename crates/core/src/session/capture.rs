@@ -92,7 +92,11 @@ impl Session {
             events: debugger.events(),
         });
         let list = debugger.breakpoint_list();
-        let all_plain = list.iter().all(crate::debugger::Breakpoint::is_plain);
+        let hits: Vec<u64> = (0..list.len())
+            .map(|i| debugger.breakpoint_hits(i))
+            .collect();
+        let any_hits = hits.iter().any(|&h| h > 0);
+        let all_plain = list.iter().all(crate::debugger::Breakpoint::is_plain) && !any_hits;
         let plain = list
             .iter()
             .filter(|b| b.is_plain())
@@ -110,6 +114,8 @@ impl Session {
                 })
                 .collect(),
             breakpoint_list: if all_plain { Vec::new() } else { list.to_vec() },
+            breakpoint_hits: if any_hits { hits } else { Vec::new() },
+            event: debugger.event().cloned(),
             watches: debugger.watches().to_vec(),
             break_on_error: debugger.break_on_error(),
             channels: (channels != defaults.as_slice()).then(|| channels.to_vec()),

@@ -37,6 +37,16 @@ impl Session {
             ("breakpoints", self.breakpoint_list.len(), limits::LIST),
             ("breakpoints", self.file_breakpoints.len(), limits::LIST),
             ("watches", self.watches.len(), limits::LIST),
+            (
+                "breakpoint hit counts",
+                self.breakpoint_hits.len(),
+                limits::LIST,
+            ),
+            (
+                "characters of window state",
+                self.window.as_ref().map_or(0, String::len),
+                limits::STEP_TEXT,
+            ),
             ("register formats", self.view.formats.len(), limits::LIST),
             ("edits", self.events.len(), limits::EVENTS),
             ("marks", self.marks.len(), limits::EVENTS),
@@ -83,6 +93,7 @@ impl Session {
                     .flat_map(|c| [c.location.as_str(), c.label.as_str()]),
             )
             .chain(self.events.iter().map(|e| e.location.as_str()))
+            .chain(self.event.iter().flat_map(event_texts))
             .chain(self.view.formats.iter().map(|(name, _)| name.as_str()))
             .chain(self.view.selected.as_deref())
             .chain(self.lesson.iter().flat_map(|l| {
@@ -196,5 +207,22 @@ impl Session {
             ));
         }
         Ok(())
+    }
+}
+
+/// The texts a saved status-bar event carries.
+fn event_texts(event: &crate::debugger::Event) -> Vec<&str> {
+    use crate::debugger::Event;
+    match event {
+        Event::Watchpoint {
+            location, old, new, ..
+        } => vec![location, old, new],
+        Event::WrittenBy {
+            location,
+            explanation,
+            ..
+        } => vec![location, explanation],
+        Event::NeverWritten(name) => vec![name],
+        _ => Vec::new(),
     }
 }

@@ -74,6 +74,18 @@ pub struct Session {
     /// breakpoints and disabled ones. When present it is the whole truth and `breakpoints` is
     /// only for older readers; files from before it have only `breakpoints`.
     pub breakpoint_list: Vec<crate::debugger::Breakpoint>,
+    /// Each breakpoint's hits so far, in `breakpoint_list`'s order (a session with hits
+    /// writes that list even when every breakpoint is plain), so a "from hit N" breakpoint
+    /// stops where it would have without the reopen.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub breakpoint_hits: Vec<u64>,
+    /// What the status bar said the debugger last did (a breakpoint hit, who wrote a value).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub event: Option<crate::debugger::Event>,
+    /// The window's own state (panel tabs, scroll positions) as text the window writes and
+    /// reads; the core keeps it as it is.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub window: Option<String>,
     pub watches: Vec<crate::debugger::Watch>,
     /// Stop a run when the dialect's error flags come on.
     pub break_on_error: bool,
@@ -111,7 +123,7 @@ pub mod limits {
     pub const EVENTS: usize = 1_000_000;
     /// Characters of one condition, message, watch, channel, location or program name.
     pub const TEXT: usize = 4_096;
-    /// Characters of one lesson step's text.
+    /// Characters of one lesson step's text, and of the window's state.
     pub const STEP_TEXT: usize = 65_536;
 }
 

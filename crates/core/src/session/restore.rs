@@ -130,6 +130,10 @@ impl Session {
         if self.at < debugger.pos() {
             debugger.goto(self.at);
         }
+        debugger.set_breakpoint_hits(&self.breakpoint_hits);
+        if let Some(event) = &self.event {
+            debugger.set_event(event.clone());
+        }
         debugger.set_speed(self.view.speed);
         Ok(debugger)
     }

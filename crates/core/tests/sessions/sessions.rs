@@ -284,3 +284,50 @@ fn homing_session(dir: &str) {
     );
     assert_ne!(d.machine().run_state(), RunState::Faulted);
 }
+
+/// Run until the debugger stops on its own (a breakpoint, the end), within a bound.
+fn run_to_a_stop(d: &mut Debugger) {
+    d.set_speed(Speed::Unlimited);
+    d.run();
+    for _ in 0..1000 {
+        if !d.advance(0.016, Duration::from_millis(20)) {
+            return;
+        }
+    }
+    panic!("the run did not stop");
+}
+
+/// #43 item 5: a "from hit 3" breakpoint stops at the same place after a save and reopen as
+/// without them (the reopened session had forgotten its hits and stopped two rounds early),
+/// and the status bar says again why the debugger stopped.
+#[test]
+fn a_reopened_session_keeps_hit_counts_and_the_status() {
+    let source = include_str!("../../../../assets/examples/call_ret.qsl");
+    let line = 1 + source
+        .lines()
+        .position(|l| l.contains("CLC DEC, n"))
+        .expect("the DEC line");
+    let mut d = common::debugger("silverlode", source);
+    d.add_breakpoint(servoscope_core::debugger::Breakpoint {
+        hit_count: 3,
+        ..servoscope_core::debugger::Breakpoint::line(line)
+    });
+    run_to_a_stop(&mut d);
+    let n = |d: &Debugger| servoscope_core::machine::value_of(d.machine(), d.find("n").expect("n"));
+    assert_eq!(n(&d), 8, "the third pass of the DEC line, before it runs");
+    assert_eq!(d.breakpoint_hits(0), 3);
+    let text = Session::capture(&d, None, ViewSettings::default())
+        .to_ron()
+        .expect("encodes");
+    let mut reopened = Session::from_ron(&text, "s.ron")
+        .and_then(|s| s.restore("s.ron"))
+        .expect("reopens");
+    assert_eq!(reopened.breakpoint_hits(0), 3, "{text}");
+    assert_eq!(reopened.event(), d.event(), "the status bar's reason");
+    // Every later pass stops: both go on to n = 7.
+    run_to_a_stop(&mut d);
+    run_to_a_stop(&mut reopened);
+    assert_eq!(n(&d), 7);
+    assert_eq!(reopened.pos(), d.pos());
+    assert_eq!(reopened.breakpoint_hits(0), 4);
+}

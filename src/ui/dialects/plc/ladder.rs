@@ -185,7 +185,7 @@ impl DialectPanel for LadderPanel {
                     .position(|r| r.elements.iter().any(|e| e.line == pc))
             })
             .flatten();
-        egui::ScrollArea::both()
+        let shown = egui::ScrollArea::both()
             .id_salt("ladder_scroll")
             .auto_shrink([false, false])
             .show_viewport(ui, |ui, viewport| {
@@ -237,6 +237,7 @@ impl DialectPanel for LadderPanel {
                     drawing.show(ui, m, out);
                 }
             });
+        crate::ui::window_state::note_scroll_area(ui.ctx(), "ladder", shown.id);
     }
 }
 

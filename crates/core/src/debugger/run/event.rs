@@ -1,7 +1,7 @@
 //! What the debugger last did or met, in words for the status bar.
 
-/// Why the debugger last stopped, for the status bar.
-#[derive(Clone, Debug, PartialEq, Eq)]
+/// Why the debugger last stopped, for the status bar (sessions keep it).
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Event {
     Breakpoint(usize),
     /// "Break on error": the error lamp turned on; the line is the next instruction's.
