@@ -506,21 +506,21 @@ fn check(args: &CheckArgs) -> Result<u8, String> {
         }
         nothing_run(&name, &diagnostics)
     })?;
-    let events = session
-        .user_events(engine.machine(), &lesson_name)
-        .map_err(|e| e.to_string())?;
-    let max_ticks = args
-        .max_ticks
-        .or(lesson.max_ticks)
-        .unwrap_or(dialect.default_max_ticks);
-    let done = runner::run_engine(engine.as_ref(), &events, max_ticks);
+    let max_ticks = servoscope_core::lesson::grading_ticks(&lesson, args.max_ticks, dialect);
+    let (done, outcomes) = servoscope_core::lesson::grading_run(
+        engine.as_ref(),
+        &session,
+        &lesson,
+        max_ticks,
+        &lesson_name,
+    )
+    .map_err(|e| e.to_string())?;
     let report = Report {
         dialect,
         machine: done.machine(),
         project: Some(&start.project),
         broke: None,
     };
-    let outcomes = servoscope_core::lesson::evaluate_all(&lesson, done.machine());
     let unit = if done.machine().is_plc() {
         "scan(s)"
     } else {

@@ -9,7 +9,6 @@ use egui_commonmark::{CommonMarkCache, CommonMarkViewer};
 use super::Command;
 use servoscope_core::debugger::Debugger;
 use servoscope_core::lesson::{CheckOutcome, Lesson, LessonStep};
-use servoscope_core::machine::Pos;
 use servoscope_core::session::Session;
 
 pub const TITLE: &str = "Lesson";
@@ -18,8 +17,10 @@ pub struct LessonView {
     pub lesson: Lesson,
     /// The step shown, from 0.
     pub step: usize,
-    /// The last Check: the step and position it was made at, and its outcomes.
-    pub checked: Option<(usize, Pos, Vec<CheckOutcome>)>,
+    /// The last Check, once graded.
+    pub checked: Option<Graded>,
+    /// A Check being graded in the background.
+    grading: Option<Grading>,
     pub editing: bool,
     /// The lesson as it was opened (program, position, edits): what Reset lesson goes back to.
     pub start: Option<Session>,
@@ -32,32 +33,135 @@ impl LessonView {
             lesson,
             step: 0,
             checked: None,
+            grading: None,
             editing: false,
             start,
             cache: CommonMarkCache::default(),
         }
     }
 
-    /// Evaluate the shown step's checks on the debugger's present state.
+    /// Grade the shown step as `servoscope check` grades the lesson: the program in the editor,
+    /// run from its start with the lesson's inputs for the lesson's grading length, on a worker
+    /// (a long run never holds up the window). A program that does not assemble is not graded:
+    /// the result says so, as `check` does.
     pub fn check(&mut self, debugger: &Debugger) {
-        let m = debugger.machine();
-        let outcomes = self
-            .lesson
-            .steps
-            .get(self.step)
-            .map(|s| {
-                s.checks
-                    .iter()
-                    .map(|c| servoscope_core::lesson::evaluate(self.step + 1, c, m))
-                    .collect()
+        let step = self.step;
+        let source = debugger.project().clone();
+        let dialect = debugger.dialect();
+        let start = self.start.clone().unwrap_or_default();
+        let settings = if self.start.is_some() {
+            dialect.settings_from(&start.settings)
+        } else {
+            debugger.settings().clone()
+        };
+        let engine = match dialect.open_program(&source, &settings) {
+            Ok(engine) => engine,
+            Err(diagnostics) => {
+                let errors: Vec<_> = (diagnostics.iter())
+                    .filter(|d| d.severity == servoscope_core::machine::Severity::Error)
+                    .collect();
+                let first = errors.first().map_or(String::new(), |d| {
+                    format!(": {}", source.diagnostic(debugger.name(), d).trim_end())
+                });
+                self.grading = None;
+                self.checked = Some(Graded {
+                    step,
+                    source,
+                    result: Err(format!(
+                        "Not graded: the program in the editor does not assemble ({} error(s)){first}.                          servoscope check would grade nothing either: fix it, then Check again.",
+                        errors.len()
+                    )),
+                });
+                return;
+            }
+        };
+        let lesson = servoscope_core::lesson::Lesson {
+            steps: self.lesson.steps.get(step).cloned().into_iter().collect(),
+            ..self.lesson.clone()
+        };
+        let ticks = servoscope_core::lesson::grading_ticks(&lesson, None, dialect);
+        let (tx, rx) = std::sync::mpsc::channel();
+        let name = debugger.name().to_string();
+        std::thread::spawn(move || {
+            let result = servoscope_core::lesson::grading_run(
+                engine.as_ref(),
+                &start,
+                &lesson,
+                ticks,
+                &name,
+            )
+            .map(|(done, mut outcomes)| {
+                // The step's checks were graded as step 1 of a one-step lesson.
+                outcomes.iter_mut().for_each(|o| o.step = step + 1);
+                let m = done.machine();
+                let how = if m.run_state().is_live() {
+                    format!(
+                        "stopped at the grading length, {} {}",
+                        m.ticks(),
+                        ticks_word(m)
+                    )
+                } else {
+                    format!("ended after {} {}", m.ticks(), ticks_word(m))
+                };
+                (how, outcomes)
             })
-            .unwrap_or_default();
-        self.checked = Some((self.step, m.pos(), outcomes));
+            .map_err(|e| e.to_string());
+            let _ = tx.send(result);
+        });
+        self.grading = Some(Grading {
+            step,
+            source,
+            results: rx,
+        });
+    }
+
+    /// Whether a Check is still being graded.
+    pub fn is_grading(&self) -> bool {
+        self.grading.is_some()
+    }
+
+    /// Take a finished grading's result (asked every frame).
+    pub fn poll(&mut self) {
+        let Some(g) = &self.grading else { return };
+        let result = match g.results.try_recv() {
+            Ok(result) => result,
+            Err(std::sync::mpsc::TryRecvError::Empty) => return,
+            Err(std::sync::mpsc::TryRecvError::Disconnected) => {
+                Err("the grading stopped without a result".to_string())
+            }
+        };
+        if let Some(g) = self.grading.take() {
+            self.checked = Some(Graded {
+                step: g.step,
+                source: g.source,
+                result,
+            });
+        }
     }
 
     pub fn go_to(&mut self, step: usize) {
         self.step = step.min(self.lesson.steps.len().saturating_sub(1));
     }
+}
+
+/// "scans" or "ticks", as the machine counts.
+fn ticks_word(m: &dyn servoscope_core::machine::MachineView) -> &'static str {
+    if m.is_plc() { "scan(s)" } else { "tick(s)" }
+}
+
+/// A Check's result: for which step, of which program text, and either how the run ended
+/// with the outcomes, or why nothing was graded.
+pub struct Graded {
+    pub step: usize,
+    source: servoscope_core::machine::project::Project,
+    pub result: Result<(String, Vec<CheckOutcome>), String>,
+}
+
+/// A Check being graded on a worker.
+struct Grading {
+    step: usize,
+    source: servoscope_core::machine::project::Project,
+    results: std::sync::mpsc::Receiver<Result<(String, Vec<CheckOutcome>), String>>,
 }
 
 pub fn show(
@@ -99,7 +203,7 @@ pub fn show(
         if ui
             .add_enabled(has_checks, egui::Button::new("✔ Check this step"))
             .on_hover_text(
-                "Evaluate this step's checks on the present state: run the program first",
+                "Grade this step as servoscope check does: the program in the editor, run from its start with the lesson's inputs",
             )
             .on_disabled_hover_text("This step has no checks")
             .clicked()
@@ -137,34 +241,40 @@ pub fn show(
 
 /// The last Check's outcomes, when they are of the shown step.
 fn results(ui: &mut egui::Ui, debugger: &Debugger, view: &LessonView) {
-    let Some((step, at, outcomes)) = &view.checked else {
+    let palette = super::theme::palette(ui.visuals().dark_mode);
+    if view.grading.as_ref().is_some_and(|g| g.step == view.step) {
+        ui.horizontal(|ui| {
+            ui.spinner();
+            ui.label("Grading: the program runs from its start, as servoscope check runs it…");
+        });
+        ui.ctx().request_repaint();
+        return;
+    }
+    let Some(graded) = &view.checked else {
         return;
     };
-    if *step != view.step {
+    if graded.step != view.step {
         return;
     }
-    let palette = super::theme::palette(ui.visuals().dark_mode);
+    let (how, outcomes) = match &graded.result {
+        Ok(done) => done,
+        Err(why) => {
+            ui.label(RichText::new(why).color(palette.error));
+            ui.separator();
+            return;
+        }
+    };
     let (pass, fail) = (palette.bit_on, palette.error);
     let passed = outcomes.iter().filter(|o| o.pass).count();
-    let stale = *at != debugger.machine().pos();
-    let tick = debugger.dialect().vocabulary.tick;
     let mut summary = format!(
-        "{passed} of {} checks pass (at {tick} {at})",
+        "{passed} of {} checks pass (graded as servoscope check grades: the program run from \
+         its start with the lesson's inputs, {how})",
         outcomes.len()
     );
-    if stale {
-        summary.push_str(" — the position has changed since: Check again");
+    if graded.source != *debugger.project() {
+        summary.push_str(" — the program has changed since: Check again");
     }
     ui.label(RichText::new(summary).strong());
-    if *at == servoscope_core::machine::Pos::default() {
-        ui.label(
-            RichText::new(
-                "Nothing has run yet: run the program (F5) or step it, then Check again. \
-                 (servoscope check runs it for you.)",
-            )
-            .color(palette.written),
-        );
-    }
     for o in outcomes {
         let (mark, colour) = if o.pass { ("✓", pass) } else { ("✗", fail) };
         let detail = o.detail();

@@ -17,6 +17,9 @@ impl ServoscopeApp {
         if self.ctx.is_none() {
             self.ctx = Some(ctx.clone());
         }
+        if let Some(lesson) = &mut self.lesson {
+            lesson.poll();
+        }
         // Which files differ from what was opened or saved: their tabs carry a •.
         let saved = self.file_text.as_deref().unwrap_or_default();
         self.code.unsaved = self

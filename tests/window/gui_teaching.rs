@@ -61,24 +61,69 @@ fn a_lesson_opens_in_its_panel_and_check_shows_the_values_involved() {
     h.get_by_label("Next step ▶").click();
     h.run_steps(2);
     h.get_by_label("step 2 of 2");
-    // Run the lesson's program to its end: R21 = 1016 − 1 = 1015.
-    h.state_mut().debugger.goto_tick(100);
-    h.run_steps(2);
-    h.get_by_label("✔ Check this step").click();
-    h.run_steps(2);
+    // Check grades the lesson's run, as servoscope check does, whatever the position on
+    // screen: the program to its end, R21 = 1016 − 1 = 1015.
+    check_and_wait(&mut h);
     h.get_by_label_contains("0 of 1 checks pass");
+    h.get_by_label_contains("ended after");
     h.get_by_label("✗ R21 == 1016   R21 = 1015, expected 1016");
-    // The student fixes the program, runs it again and checks.
+    // The student fixes the program and checks: graded on the text in the editor.
     let fixed = h.state().debugger.source().replace("CLC DEC, 21", "");
     apply(&mut h, Command::EditSource(fixed));
-    apply(&mut h, Command::Debug(Action::Assemble));
-    h.state_mut().debugger.goto_tick(100);
-    h.run_steps(2);
-    h.get_by_label_contains("the position has changed since");
-    h.get_by_label("✔ Check this step").click();
-    h.run_steps(2);
+    h.get_by_label_contains("the program has changed since");
+    check_and_wait(&mut h);
     h.get_by_label_contains("1 of 1 checks pass");
     h.get_by_label("✓ R21 == 1016   R21 = 1016");
+}
+
+/// Press Check this step and let the grading finish.
+fn check_and_wait(h: &mut Harness<'static, ServoscopeApp>) {
+    h.get_by_label("✔ Check this step").click();
+    for _ in 0..500 {
+        h.step();
+        if !h.state().lesson.as_ref().is_some_and(|l| l.is_grading()) {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    h.run_steps(2);
+    assert!(!h.state().lesson.as_ref().is_some_and(|l| l.is_grading()));
+}
+
+/// #43 item 6: the window's Check grades the same run as `servoscope check` (it graded the
+/// scan on screen), and a program that does not assemble is not graded (it silently graded the
+/// previous program).
+#[test]
+fn check_this_step_agrees_with_servoscope_check() {
+    let path = common::scratch_file("gui-agree.ron", LESSON);
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.open_path(path.clone());
+    let mut h = harness(app);
+    apply(&mut h, Command::LessonStep(1));
+    // At tick 0, nothing run on screen: the grade is the lesson's run all the same.
+    assert_eq!(h.state().debugger.pos().tick, 0);
+    check_and_wait(&mut h);
+    let graded = h.state().lesson.as_ref().and_then(|l| l.checked.as_ref());
+    let (_, outcomes) = graded.and_then(|g| g.result.as_ref().ok()).expect("graded");
+    let window: Vec<serde_json::Value> = outcomes.iter().map(|o| o.to_json()).collect();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_servoscope"))
+        .args(["check", path.to_str().expect("a path"), "--json"])
+        .output()
+        .expect("servoscope check runs");
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    let cli: Vec<serde_json::Value> = (report["checks"].as_array().expect("checks").iter())
+        .filter(|c| c["step"] == 2)
+        .cloned()
+        .collect();
+    assert_eq!(window, cli);
+    // An edit that does not assemble is not graded as the program before it.
+    apply(
+        &mut h,
+        Command::EditSource("        CLC FROB, 21\n        END\n".to_string()),
+    );
+    check_and_wait(&mut h);
+    h.get_by_label_contains("Not graded: the program in the editor does not assemble");
+    let _ = std::fs::remove_file(path);
 }
 
 #[test]

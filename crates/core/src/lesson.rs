@@ -155,6 +155,35 @@ pub fn evaluate_all(lesson: &Lesson, m: &dyn MachineView) -> Vec<CheckOutcome> {
         .collect()
 }
 
+/// How many ticks grading runs: `asked` (`--max-ticks`), else the lesson's `max_ticks`, else
+/// the dialect's runner default (one scan for a PLC, to the end or 10^7 ticks otherwise).
+pub fn grading_ticks(
+    lesson: &Lesson,
+    asked: Option<u64>,
+    dialect: &crate::registry::Dialect,
+) -> u64 {
+    asked
+        .or(lesson.max_ticks)
+        .unwrap_or(dialect.default_max_ticks)
+}
+
+/// The run a lesson grades, the same for `servoscope check` and the window's Check: `engine`'s
+/// program from its start, with the lesson session's edits and inputs, for `ticks`; every check
+/// of every step evaluated at its end. `Err` when the session's edits name what the program
+/// lacks.
+pub fn grading_run(
+    engine: &dyn crate::debugger::Engine,
+    session: &crate::session::Session,
+    lesson: &Lesson,
+    ticks: u64,
+    path: &str,
+) -> Result<(Box<dyn crate::debugger::Engine>, Vec<CheckOutcome>), crate::session::SessionError> {
+    let events = session.user_events(engine.machine(), path)?;
+    let done = crate::runner::run_engine(engine, &events, ticks);
+    let outcomes = evaluate_all(lesson, done.machine());
+    Ok((done, outcomes))
+}
+
 /// Every check of `lesson` failed without being evaluated, each saying `why` (the program
 /// did not assemble: nothing ran to look at).
 pub fn unevaluated(lesson: &Lesson, why: &str) -> Vec<CheckOutcome> {
