@@ -292,3 +292,44 @@ fn no_power_flows_before_the_first_scan() {
         );
     }
 }
+
+/// #43 item 15: a bit driven by OUT in two rungs is a warning (as DirectSOFT's program check
+/// and WindLDR's give), naming both lines; SET/RST of one bit is not, nor one OUT in each of
+/// two stages (the shipped push-on/push-off example drives its lamp so).
+#[test]
+fn a_duplicate_coil_is_a_warning_naming_both_lines() {
+    for (dialect, source, bit) in [
+        (
+            "dl205",
+            "STR X0\nOUT Y0\nSTR X1\nOUT Y0\nSTR X2\nSET Y1\nSTR X3\nRST Y1\nEND\n",
+            "Y0",
+        ),
+        (
+            "opennet",
+            "LOD I0\nOUT Q0\nLOD I1\nOUT Q0\nLOD I2\nSET Q1\nLOD I3\nRST Q1\nEND\n",
+            "Q0",
+        ),
+    ] {
+        let d = by_name(dialect).expect("registered");
+        let engine = match d.open_text(source, &d.default_settings()) {
+            Ok(e) => e,
+            Err(diags) => panic!("assembles: {diags:?}"),
+        };
+        let warnings = engine.machine().warnings();
+        assert_eq!(warnings.len(), 1, "{dialect}: {warnings:?}");
+        let w = &warnings[0];
+        assert_eq!(w.line, 4, "{dialect}: on the second OUT");
+        assert!(
+            w.message
+                .starts_with(&format!("{bit} is already an output coil on line 2")),
+            "{dialect}: {}",
+            w.message
+        );
+    }
+    let d = by_name("dl205").expect("registered");
+    let staged = include_str!("../../../../assets/examples/push_on_off.dl205");
+    let engine = d
+        .open_text(staged, &d.default_settings())
+        .expect("assembles");
+    assert_eq!(engine.machine().warnings(), []);
+}

@@ -402,6 +402,9 @@ impl MachineView for Dl205 {
     fn note_writes(&self, set: &mut crate::machine::WriteSet) {
         self.each_written(|loc| set.insert(loc));
     }
+    fn warnings(&self) -> Vec<crate::machine::Diagnostic> {
+        crate::machine::plc::ladder::duplicate_coils(&self.program.ladder)
+    }
     fn explain_last(&self) -> Option<String> {
         super::explain::explain(self)
     }

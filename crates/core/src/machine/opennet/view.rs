@@ -427,7 +427,11 @@ impl MachineView for OpenNet {
         out
     }
     fn warnings(&self) -> Vec<crate::machine::Diagnostic> {
-        self.program.warnings.clone()
+        let mut warnings = self.program.warnings.clone();
+        warnings.extend(crate::machine::plc::ladder::duplicate_coils(
+            &self.program.ladder,
+        ));
+        warnings
     }
     fn line_notes(&self) -> Vec<(usize, String)> {
         let instrs = &self.program.instrs;

@@ -27,6 +27,50 @@ pub use draw::{RUNG_COMMENT_LINES, coil_letters, fit, svg, svg_of, value_text};
 pub use power::{RungPower, RungState, power_of};
 
 /// A node of a rung; [`RAIL`] is the left power rail.
+/// A warning for each `OUT`-style coil that drives a bit another rung's `OUT` already drives:
+/// the last rung wins every scan and the earlier one seems dead, which DirectSOFT's program
+/// check and WindLDR's both warn of. SET/RST pairs, pulses and OROUT may share a bit, and so
+/// may OUTs in different stages or subroutines (only the active stage's rungs are scanned: the
+/// same lamp is commonly driven by each stage that needs it, as in `push_on_off.dl205`).
+pub fn duplicate_coils(ladder: &Ladder) -> Vec<crate::machine::Diagnostic> {
+    let mut first: std::collections::HashMap<(usize, &str), (usize, usize)> = Default::default();
+    let mut out = Vec::new();
+    let mut scope = 0;
+    for (r, rung) in ladder.rungs.iter().enumerate() {
+        for e in &rung.elements {
+            if e.symbol == Symbol::Box
+                && ["SG", "ISG", "SBR"].contains(&e.operand.to_ascii_uppercase().as_str())
+            {
+                scope += 1;
+            }
+            if !matches!(e.symbol, Symbol::Coil(CoilKind::Out | CoilKind::OutNot)) {
+                continue;
+            }
+            match first.get(&(scope, e.operand.as_str())) {
+                Some(&(rung_at, line)) if rung_at != r => {
+                    out.push(crate::machine::Diagnostic {
+                        severity: crate::machine::Severity::Warning,
+                        line: e.line,
+                        col: 1,
+                        len: 1,
+                        message: format!(
+                            "{} is already an output coil on line {line}: the last rung scanned \
+                             wins, so line {line} seems to do nothing (drive {} from one rung, \
+                             or use SET/RST)",
+                            e.operand, e.operand
+                        ),
+                    });
+                }
+                Some(_) => {}
+                None => {
+                    first.insert((scope, e.operand.as_str()), (r, e.line));
+                }
+            }
+        }
+    }
+    out
+}
+
 pub type NodeId = u32;
 pub const RAIL: NodeId = 0;
 
