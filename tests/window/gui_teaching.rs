@@ -287,7 +287,44 @@ fn the_product_panel_shows_the_multiply_about_to_run_and_then_the_last_one() {
     );
     h.get_by_label_contains("0.2354 dropped by the shift");
     apply(&mut h, Command::Debug(Action::StepOver));
-    h.get_by_label_contains("Last run (at tick ");
+    h.get_by_label_contains("Last run");
+    h.get_by_label_contains("stored 1016");
+}
+
+/// #43 item 17: a run that stops at a data breakpoint right after a multiply (never showing
+/// it at the program counter) still shows that multiply as the last one run.
+#[test]
+fn the_product_panel_shows_the_multiply_a_data_breakpoint_stopped_after() {
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.load_program(
+        "scale.qsl",
+        "WRP 20, 40000
+DLY 50
+CLD MULT_S64_SHR16, 21, 20, q16(0.0254)
+DLY 50
+END
+",
+    );
+    app.debugger
+        .set_speed(servoscope_core::debugger::Speed::Unlimited);
+    app.debugger
+        .add_breakpoint(servoscope_core::debugger::Breakpoint::data(
+            "R21",
+            servoscope_core::debugger::DataTrigger::Write,
+        ));
+    let mut h = harness(app);
+    let product = Pane::Dialect("Product".to_string());
+    apply(&mut h, Command::FocusPane(product.clone()));
+    apply(&mut h, Command::Debug(Action::Run));
+    for _ in 0..100 {
+        h.step();
+        if !h.state().debugger.is_running() {
+            break;
+        }
+    }
+    h.run_steps(2);
+    assert_eq!(h.state().debugger.machine().last_line(), Some(3));
+    h.get_by_label_contains("Last run");
     h.get_by_label_contains("stored 1016");
 }
 

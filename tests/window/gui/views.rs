@@ -279,3 +279,17 @@ fn sessions_save_with_ctrl_s_and_reopen() {
     h.get_by_label_contains("not a readable session file");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// #43 item 16: a big slot value reads as a number a student reads (it was `-2.1e9`), three
+/// significant digits with k, M or G; small ones exactly.
+#[test]
+fn big_slot_values_read_in_k_m_and_g() {
+    use servoscope::ui::dialects::silverlode::queues::compact;
+    assert_eq!(compact(99_999), "99999");
+    assert_eq!(compact(-99_999), "-99999");
+    assert_eq!(compact(123_456), "123k");
+    assert_eq!(compact(999_999), "1.00M", "not 1000k");
+    assert_eq!(compact(1_234_567), "1.23M");
+    assert_eq!(compact(i32::MIN), "-2.15G");
+    assert_eq!(compact(i32::MAX), "2.15G");
+}

@@ -43,7 +43,11 @@ impl DialectPanel for ProductPanel {
         }
         // A breakdown made at an earlier position of this same run is what that command did:
         // the command at the program counter always runs next.
+        // Else the command that ran last, if it multiplied or divided: a run that stopped
+        // right after it (a data breakpoint on its result) never showed it at the counter.
+        let just_run = next.is_none().then(|| arith::last_run(m)).flatten();
         let last = match (&next, &self.seen) {
+            _ if just_run.is_some() => None,
             (None, Some((at, g, b))) if *at < pos && *g == generation => Some((*at, b)),
             _ => None,
         };
@@ -53,6 +57,9 @@ impl DialectPanel for ProductPanel {
             .auto_shrink([false, false])
             .show(ui, |ui| match (&next, last) {
                 (Some(b), _) => breakdown(ui, b, "About to run", &p),
+                (None, _) if let Some(b) = &just_run => {
+                    breakdown(ui, b, "Last run (the command that ran last)", &p);
+                }
                 (None, Some((at, b))) => {
                     breakdown(ui, b, &format!("Last run (at tick {at})"), &p);
                 }

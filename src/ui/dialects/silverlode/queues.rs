@@ -416,12 +416,30 @@ fn header_words(ui: &mut egui::Ui, q: &QueueView, p: &Palette) {
 }
 
 /// A value short enough for its slot; hovering shows it in full.
-fn compact(v: i32) -> String {
-    if v.unsigned_abs() < 100_000 {
-        v.to_string()
-    } else {
-        format!("{:.1e}", f64::from(v))
+/// A slot's value in the few characters a cell holds: exact below 100,000, else three
+/// significant digits with k, M or G (`-2.15G` for -2147483648; the tooltip has every digit).
+/// Scientific notation (`-2.1e9`) read as nonsense to the students it is for.
+pub fn compact(v: i32) -> String {
+    let magnitude = v.unsigned_abs();
+    if magnitude < 100_000 {
+        return v.to_string();
     }
+    // 999,999 is 1.00M, not 1000k: a value that rounds up to 1000 takes the next unit.
+    let (scale, suffix) = match magnitude {
+        0..999_500 => (1e3, "k"),
+        999_500..999_500_000 => (1e6, "M"),
+        _ => (1e9, "G"),
+    };
+    let scaled = f64::from(magnitude) / scale;
+    let digits = if scaled >= 100.0 {
+        0
+    } else if scaled >= 10.0 {
+        1
+    } else {
+        2
+    };
+    let sign = if v < 0 { "-" } else { "" };
+    format!("{sign}{scaled:.digits$}{suffix}")
 }
 
 fn slot_colours(h: &QueueHeader, slot: usize, p: &Palette) -> (Color32, Color32) {

@@ -41,21 +41,81 @@ pub fn is_explained(instr: &Instr) -> bool {
     }
 }
 
+/// The values a multiply or divide reads: the first operand (Acc, or R[reg1]), the second
+/// (the register, the literal or R[reg2]), and for DIV_U64 the low word of the dividend.
+#[derive(Clone, Copy)]
+struct Operands {
+    a: i32,
+    d: i32,
+    low: i32,
+}
+
 /// The breakdown of the command at the program counter, if it multiplies or divides.
 pub fn at_pc(m: &SilverLode) -> Option<Breakdown> {
     let pc = m.pc();
     let instr = *m.program().instrs.get(pc as usize)?;
-    let line = m.line_of(pc)?;
     let reg = |r: u8| m.reg(usize::from(r));
+    let pair = |r: u8| m.reg((usize::from(r) + 1).min(super::REGISTERS - 1));
+    let operands = match instr {
+        Instr::Clc { reg: r, .. } => Operands {
+            a: reg(10),
+            d: reg(r),
+            low: 0,
+        },
+        Instr::Cld { reg1, data, .. } => Operands {
+            a: reg(reg1),
+            d: data,
+            low: pair(reg1),
+        },
+        Instr::Clx { reg1, reg2, .. } => Operands {
+            a: reg(reg1),
+            d: reg(reg2),
+            low: pair(reg1),
+        },
+        _ => return None,
+    };
+    breakdown(instr, m.line_of(pc)?, operands)
+}
+
+/// The breakdown of the last command run, if it multiplied or divided, from the values it read
+/// (recorded as it ran): the Product panel's "last run" after a run that never stopped on it.
+pub fn last_run(m: &SilverLode) -> Option<Breakdown> {
+    let last = m.state().last;
+    if last.outcome != super::Outcome::Done {
+        return None;
+    }
+    let instr = *m.program().instrs.get(last.pc as usize)?;
+    let [v0, v1, v2, _] = last.vals;
+    let operands = match instr {
+        Instr::Cld {
+            op: ExtOp::DivU64, ..
+        }
+        | Instr::Clx {
+            op: ExtOp::DivU64, ..
+        } => Operands {
+            a: v0,
+            low: v1,
+            d: v2,
+        },
+        _ => Operands {
+            a: v0,
+            d: v1,
+            low: 0,
+        },
+    };
+    breakdown(instr, m.line_of(last.pc)?, operands)
+}
+
+fn breakdown(instr: Instr, line: usize, o: Operands) -> Option<Breakdown> {
     match instr {
         Instr::Clc { op, reg: r } if explained_clc(op) => {
-            let acc = reg(10);
             let command = format!("CLC {}, R{r}", op.name());
+            let (acc, x) = (o.a, o.d);
             Some(match op {
-                ClcOp::MultS => multiply(line, command, acc, reg(r), false, "Acc (R10)"),
-                ClcOp::MultU => multiply(line, command, acc, reg(r), true, "Acc (R10)"),
-                ClcOp::Div => divide(line, command, acc, reg(r), false, "Acc (R10)"),
-                _ => divide(line, command, acc, reg(r), true, "Acc (R10)"),
+                ClcOp::MultS => multiply(line, command, acc, x, false, "Acc (R10)"),
+                ClcOp::MultU => multiply(line, command, acc, x, true, "Acc (R10)"),
+                ClcOp::Div => divide(line, command, acc, x, false, "Acc (R10)"),
+                _ => divide(line, command, acc, x, true, "Acc (R10)"),
             })
         }
         Instr::Cld {
@@ -64,13 +124,12 @@ pub fn at_pc(m: &SilverLode) -> Option<Breakdown> {
             reg1,
             data,
         } if explained_ext(op) => Some(ext(
-            m,
             line,
             format!("CLD {}, R{res}, R{reg1}, {data}", op.name()),
             op,
             res,
             reg1,
-            data,
+            o,
         )),
         Instr::Clx {
             op,
@@ -78,28 +137,19 @@ pub fn at_pc(m: &SilverLode) -> Option<Breakdown> {
             reg1,
             reg2,
         } if explained_ext(op) => Some(ext(
-            m,
             line,
             format!("CLX {}, R{res}, R{reg1}, R{reg2}", op.name()),
             op,
             res,
             reg1,
-            reg(reg2),
+            o,
         )),
         _ => None,
     }
 }
 
-fn ext(
-    m: &SilverLode,
-    line: usize,
-    command: String,
-    op: ExtOp,
-    res: u8,
-    a: u8,
-    d: i32,
-) -> Breakdown {
-    let value = m.reg(usize::from(a));
+fn ext(line: usize, command: String, op: ExtOp, res: u8, a: u8, o: Operands) -> Breakdown {
+    let (value, d) = (o.a, o.d);
     let dest = format!("R{res}");
     match op {
         ExtOp::MultS => multiply(line, command, value, d, false, &dest),
@@ -111,11 +161,7 @@ fn ext(
         // The reversed forms divide the literal (or R[reg2]) by sx16(LO(R[reg1])).
         ExtOp::DivRev => divide(line, command, d, value, false, &dest),
         ExtOp::ModRev => divide(line, command, d, value, true, &dest),
-        _ => {
-            let upper = m.reg(usize::from(a));
-            let lower = m.reg(usize::from(a) + 1);
-            wide_divide(line, command, upper, lower, d, a)
-        }
+        _ => wide_divide(line, command, o.a, o.low, d, a),
     }
 }
 
