@@ -280,3 +280,42 @@ fn a_def_constant_is_shown_on_hover_and_usable_in_watches_and_conditions() {
         "other names are still unknown"
     );
 }
+
+/// #43 item 11: when a long line is scrolled into view sideways, the
+/// line numbers stay in view at the panel's left edge (they scrolled away with the text).
+#[test]
+fn line_numbers_stay_put_when_a_long_line_scrolls_sideways() {
+    let long = format!("WRP 20, 1 ; {}\n", "a long comment ".repeat(40));
+    let source = format!("{long}WRP 21, 2\nEND\n");
+    let mut h = harness(&source);
+    let program = h
+        .state()
+        .layout
+        .pane_rect(&servoscope::ui::layout::Pane::Program)
+        .expect("program shown");
+    h.event(egui::Event::PointerMoved(program.center()));
+    h.run_steps(1);
+    for _ in 0..10 {
+        h.event(egui::Event::MouseWheel {
+            unit: egui::MouseWheelUnit::Point,
+            delta: egui::vec2(-300.0, 0.0),
+            phase: egui::TouchPhase::Move,
+            modifiers: Modifiers::NONE,
+            source: egui::MouseWheelSource::Wheel,
+        });
+        h.step();
+    }
+    h.run_steps(4);
+    let editor = h.get_by_role(egui::Role::MultilineTextInput).rect();
+    assert!(
+        editor.left() < program.left() - 100.0,
+        "scrolled: {editor:?}"
+    );
+    for line in 1..=3 {
+        let row = h.get_by_label(&format!("Breakpoint line {line}")).rect();
+        assert!(
+            row.left() >= program.left() && row.right() < program.left() + 80.0,
+            "line {line}: {row:?} at the left of {program:?}"
+        );
+    }
+}

@@ -69,6 +69,17 @@ pub(super) fn gutter_ui(
     out: &mut Vec<Command>,
 ) {
     let clip = ui.clip_rect();
+    // The gutter stays at the view's left edge when a long line scrolls the text sideways,
+    // over the text that scrolls under it.
+    let shift = (clip.left() - gutter.left()).max(0.0);
+    let gutter = gutter.translate(vec2(shift, 0.0));
+    if shift > 0.0 {
+        ui.painter().rect_filled(
+            gutter.with_max_x(gutter.right() + 4.0).intersect(clip),
+            0.0,
+            ui.visuals().panel_fill,
+        );
+    }
     let base = gv.base;
     let error_lines: Vec<usize> = gv.diagnostics.iter().map(|d| d.line).collect();
     let warning_only = |line: usize| {
