@@ -9,7 +9,10 @@ impl ServoscopeApp {
             Command::Debug(action) => {
                 // What the window keeps of an action besides the debugger's state.
                 match &action {
-                    Action::SetSpeed(speed) => self.prefs.speed = *speed,
+                    Action::SetSpeed(speed) => {
+                        let dialect = d.dialect().name.to_string();
+                        self.prefs.speeds.insert(dialect, *speed);
+                    }
                     Action::SetChannels(_) => self.plot.reset(),
                     _ => {}
                 }

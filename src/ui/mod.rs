@@ -132,7 +132,7 @@ impl ServoscopeApp {
             .copied()
             .unwrap_or(("new", dialect.new_program));
         let mut debugger = Debugger::with_dialect(dialect, name, text);
-        debugger.set_speed(prefs.speed);
+        debugger.set_speed(prefs.speed_for(dialect.name));
         // Leftovers of saves killed last time, in the folders the user works in.
         for folder in prefs.recent.iter().filter_map(|p| p.parent()) {
             servoscope_core::atomic::remove_stale_temporaries(folder);
@@ -249,6 +249,7 @@ impl ServoscopeApp {
             self.panels = dialects::panels(dialect);
             self.panels_for = dialect.name;
             self.registers.dialect = dialect.name;
+            self.debugger.set_speed(self.prefs.speed_for(dialect.name));
             let titles: Vec<&str> = self.panels.iter().map(|p| p.title()).collect();
             self.layout.sync_dialect_panels(&titles);
             self.extra_inputs.clear();

@@ -8,7 +8,9 @@ use super::*;
 pub struct Prefs {
     pub dark: bool,
     pub recent: Vec<PathBuf>,
-    pub speed: Speed,
+    /// The run speed the user chose, per dialect; a dialect not listed runs in real time (a
+    /// 12 s traffic light at 10 instructions/s looked frozen).
+    pub speeds: BTreeMap<String, Speed>,
     /// The register view's format per dialect, where the user chose one for every location.
     pub register_formats: BTreeMap<String, Format>,
     pub only_used_registers: bool,
@@ -27,12 +29,23 @@ impl Default for Prefs {
         Prefs {
             dark: true,
             recent: Vec::new(),
-            speed: Speed::PerSecond(10.0),
+            speeds: BTreeMap::new(),
             register_formats: BTreeMap::new(),
             only_used_registers: true,
             layout: None,
             known_panes: layout::Pane::common_titles(),
         }
+    }
+}
+
+impl Prefs {
+    /// The speed a program of `dialect` starts at: the user's last choice for it, else real
+    /// time.
+    pub fn speed_for(&self, dialect: &str) -> Speed {
+        self.speeds
+            .get(dialect)
+            .copied()
+            .unwrap_or(Speed::RealTime(1.0))
     }
 }
 

@@ -194,7 +194,7 @@ fn the_layout_is_kept_with_the_preferences() {
     assert_ne!(damaged, stored);
     let prefs: Prefs = ron::from_str(&damaged).expect("the preferences still read");
     assert!(prefs.layout.is_none());
-    assert_eq!(prefs.speed, h.state().prefs.speed);
+    assert_eq!(prefs.speeds, h.state().prefs.speeds);
     let h4 = harness_sized(ServoscopeApp::new(prefs), 900.0, 600.0);
     assert_sound_layout(h4.state(), (900.0, 600.0));
 }

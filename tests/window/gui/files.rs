@@ -526,3 +526,32 @@ fn a_reopened_session_brings_back_its_tabs_and_scroll_positions() {
     assert_eq!(saved_offset(&again, "code"), Some(code_offset));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// #43 item 12: a PLC program starts in real time (a 12 s traffic light at 10
+/// instructions/s looked frozen), and a speed chosen for one dialect stays with it.
+#[test]
+fn each_dialect_starts_in_real_time_and_keeps_its_own_speed() {
+    use servoscope_core::debugger::Speed;
+    let dl205 = servoscope_core::registry::by_name("dl205").expect("DL205");
+    let silverlode = servoscope_core::registry::by_name("silverlode").expect("SilverLode");
+    let mut app = ServoscopeApp::new(Prefs::default());
+    assert_eq!(app.debugger.speed(), Speed::RealTime(1.0));
+    app.load_program_as(dl205, "lights.dl205", "STR X0\nOUT Y0\nEND\n");
+    assert_eq!(app.debugger.speed(), Speed::RealTime(1.0));
+    app.apply(
+        &egui::Context::default(),
+        servoscope::ui::Command::Debug(Action::SetSpeed(Speed::PerSecond(100.0))),
+    );
+    app.load_program_as(silverlode, "move.qsl", "WRP 20, 1\nEND\n");
+    assert_eq!(
+        app.debugger.speed(),
+        Speed::RealTime(1.0),
+        "not the PLC's choice"
+    );
+    app.load_program_as(dl205, "lights.dl205", "STR X0\nOUT Y0\nEND\n");
+    assert_eq!(
+        app.debugger.speed(),
+        Speed::PerSecond(100.0),
+        "the PLC's own again"
+    );
+}

@@ -17,6 +17,42 @@ pub struct ChannelChoice {
 }
 
 impl ChannelChoice {
+    /// What a new program's plot starts on: for a PLC, the outputs and relays it drives and
+    /// then the inputs it reads (six at most, each on its own row, as a logic analyser shows
+    /// them); otherwise, and for a PLC program without bits, the dialect's defaults (a servo's
+    /// target and actual position).
+    pub fn for_program(dialect: &Dialect, m: &dyn MachineView) -> Vec<ChannelChoice> {
+        const MOST: usize = 6;
+        if !m.is_plc() {
+            return ChannelChoice::defaults(dialect);
+        }
+        let kind_of = |loc: Loc| m.spaces().get(usize::from(loc.space)).map(|s| s.kind);
+        let used = m.used();
+        let bits = |kind: crate::machine::SpaceKind| {
+            used.iter()
+                .copied()
+                .filter(move |&loc| kind_of(loc) == Some(kind))
+                .filter(|&loc| m.info(loc).is_some_and(|i| i.width == 1))
+        };
+        let chosen: Vec<ChannelChoice> = bits(crate::machine::SpaceKind::Bits)
+            .take(MOST - 2)
+            .chain(bits(crate::machine::SpaceKind::Inputs))
+            .take(MOST)
+            .filter_map(|loc| m.info(loc))
+            .enumerate()
+            .map(|(row, info)| ChannelChoice {
+                location: info.name,
+                label: String::new(),
+                group: row as u8,
+            })
+            .collect();
+        if chosen.is_empty() {
+            ChannelChoice::defaults(dialect)
+        } else {
+            chosen
+        }
+    }
+
     pub fn defaults(dialect: &Dialect) -> Vec<ChannelChoice> {
         dialect
             .default_channels

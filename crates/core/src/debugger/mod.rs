@@ -225,7 +225,16 @@ impl Debugger {
             scripted: Vec::new(),
         };
         d.assemble();
+        d.channels_for_program();
         d
+    }
+
+    /// A new program's plot starts on what it uses ([`ChannelChoice::for_program`]).
+    fn channels_for_program(&mut self) {
+        let chosen = ChannelChoice::for_program(self.dialect, self.engine.machine());
+        if chosen != self.channel_names {
+            self.set_channels(chosen);
+        }
     }
 
     /// A debugger restored to `at` of a recorded run: the program, its settings, breakpoints,

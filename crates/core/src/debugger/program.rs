@@ -36,8 +36,9 @@ impl Debugger {
         if dialect != self.dialect {
             self.dialect = dialect;
             self.settings = dialect.default_settings();
-            self.channel_names = ChannelChoice::defaults(dialect);
         }
+        // The last program's channels are not this one's: it starts on what it uses.
+        self.channel_names = ChannelChoice::defaults(dialect);
         // Nothing of the previous program stays: not its state, its history, nor its inputs
         // (a new program starts with every input low, as the runner does).
         self.engine = empty_engine(dialect, &self.settings);
@@ -53,6 +54,7 @@ impl Debugger {
         self.assemble();
         // The text is as loaded, not edited, even when it does not assemble.
         self.assembled = self.project.clone();
+        self.channels_for_program();
     }
 
     /// A new timeline at the start of the current program: every input low, as in the runner

@@ -111,3 +111,33 @@ fn check_output_reads_a_bcd_word_and_its_expected_value_in_bcd() {
     // The JSON keeps the number the expression computes with.
     assert_eq!(failing.to_json()["values"]["V0"], 0x39);
 }
+
+/// #43 item 12: a PLC program's plot starts on the bits it uses (the traffic light's lamps,
+/// not DL205's accumulator), and the next program loaded does not inherit them.
+#[test]
+fn the_plot_starts_on_what_the_program_uses() {
+    let traffic = include_str!("../../../../assets/examples/traffic_light.dl205");
+    let mut d = debugger("dl205", traffic);
+    let names = |d: &Debugger| -> Vec<String> {
+        d.channel_choices()
+            .iter()
+            .map(|c| c.location.clone())
+            .collect()
+    };
+    let lamps = names(&d);
+    for lamp in ["Y0", "Y1", "Y2"] {
+        assert!(lamps.contains(&lamp.to_string()), "{lamps:?}");
+    }
+    assert!(!lamps.contains(&"ACC".to_string()), "{lamps:?}");
+    // Each on its own row, as a logic analyser draws them.
+    let groups: std::collections::BTreeSet<u8> =
+        d.channel_choices().iter().map(|c| c.group).collect();
+    assert_eq!(groups.len(), lamps.len());
+    d.load_as(d.dialect(), "parts.dl205", PARTS_COUNTER);
+    let parts = names(&d);
+    assert!(parts.contains(&"X0".to_string()), "{parts:?}");
+    assert!(!parts.contains(&"Y1".to_string()), "{parts:?}");
+    // A servo program keeps its target and actual position.
+    let d = debugger("silverlode", "WRP 20, 1\nEND\n");
+    assert_eq!(names(&d), ["R0", "R1", "R6"]);
+}
