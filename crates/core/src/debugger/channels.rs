@@ -17,12 +17,11 @@ pub struct ChannelChoice {
 }
 
 impl ChannelChoice {
-    /// What a new program's plot starts on: for a PLC, the outputs and relays it drives and
-    /// then the inputs it reads (six at most, each on its own row, as a logic analyser shows
-    /// them); otherwise, and for a PLC program without bits, the dialect's defaults (a servo's
+    /// What a new program's plot starts on: for a PLC, the outputs and relays it drives (in
+    /// one plot) and the inputs it reads (in a second), four at most; otherwise, and for a PLC program without bits, the dialect's defaults (a servo's
     /// target and actual position).
     pub fn for_program(dialect: &Dialect, m: &dyn MachineView) -> Vec<ChannelChoice> {
-        const MOST: usize = 6;
+        const MOST: usize = 4;
         if !m.is_plc() {
             return ChannelChoice::defaults(dialect);
         }
@@ -34,16 +33,22 @@ impl ChannelChoice {
                 .filter(move |&loc| kind_of(loc) == Some(kind))
                 .filter(|&loc| m.info(loc).is_some_and(|i| i.width == 1))
         };
-        let chosen: Vec<ChannelChoice> = bits(crate::machine::SpaceKind::Bits)
-            .take(MOST - 2)
-            .chain(bits(crate::machine::SpaceKind::Inputs))
-            .take(MOST)
-            .filter_map(|loc| m.info(loc))
-            .enumerate()
-            .map(|(row, info)| ChannelChoice {
-                location: info.name,
-                label: String::new(),
-                group: row as u8,
+        let mut driven: Vec<Loc> = bits(crate::machine::SpaceKind::Bits).take(MOST).collect();
+        let read: Vec<Loc> = bits(crate::machine::SpaceKind::Inputs).take(MOST).collect();
+        // One row at least for an input, when the program reads any.
+        if !read.is_empty() && driven.len() == MOST {
+            driven.pop();
+        }
+        let rows = (driven.into_iter().map(|loc| (loc, 0)))
+            .chain(read.into_iter().map(|loc| (loc, 1)))
+            .take(MOST);
+        let chosen: Vec<ChannelChoice> = rows
+            .filter_map(|(loc, group)| {
+                Some(ChannelChoice {
+                    location: m.info(loc)?.name,
+                    label: String::new(),
+                    group,
+                })
             })
             .collect();
         if chosen.is_empty() {
