@@ -133,6 +133,14 @@ fn watch_row(ui: &mut egui::Ui, debugger: &Debugger, i: usize, w: &Watch, out: &
             Err(e) => error = Some(e.to_string()),
         }
     });
+    if error.is_none()
+        && let Some(note) = debugger.watch_wrap_note(i)
+    {
+        ui.add(egui::Label::new(RichText::new(note).small().color(p.written)).wrap())
+            .widget_info(|| {
+                egui::WidgetInfo::labeled(egui::Role::Label, true, format!("Note of watch {n}"))
+            });
+    }
     if let Some(e) = error {
         ui.add(egui::Label::new(RichText::new(e).color(p.error)).wrap())
             .widget_info(|| {

@@ -325,7 +325,7 @@ mod window {
     fn the_fixed_point_lesson_shows_integers_as_integers() {
         let path = concat!(
             env!("CARGO_MANIFEST_DIR"),
-            "/sessions/fixed_point_lesson.ron"
+            "/sessions/fixed_point_walkthrough.ron"
         );
         let mut app = ServoscopeApp::new(Prefs::default());
         app.open_path(path.into());

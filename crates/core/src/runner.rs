@@ -48,6 +48,15 @@ pub enum ArgError {
         name: String,
         dialect: &'static str,
     },
+    #[error(
+        "--set '{spec}': {name} is the {kind}'s bit (0 or 1); its current value is {name}.current (--set {name}.current={value})"
+    )]
+    BitOfBox {
+        spec: String,
+        name: String,
+        kind: &'static str,
+        value: String,
+    },
     #[error("--set '{spec}': {source}")]
     BadValue {
         spec: String,
@@ -164,6 +173,24 @@ pub fn parse_set_spec(m: &dyn MachineView, spec: &str) -> Result<UserEvent, ArgE
     })?;
     let info = m.info(loc);
     let width = info.as_ref().map_or(64, |i| i.width);
+    // OpenNet's `C0` and `T0` are the box's bit; a number is meant for its current value.
+    let trimmed = name.trim();
+    if width == 1
+        && value::parse_value(text, 1).is_err()
+        && m.find(&format!("{trimmed}.current")).is_some()
+    {
+        let kind = if trimmed.to_ascii_uppercase().starts_with('T') {
+            "timer"
+        } else {
+            "counter"
+        };
+        return Err(ArgError::BitOfBox {
+            spec: spec.to_string(),
+            name: trimmed.to_string(),
+            kind,
+            value: text.trim().to_string(),
+        });
+    }
     let bad = |source| ArgError::BadValue {
         spec: spec.to_string(),
         source,
@@ -182,7 +209,15 @@ pub fn parse_set_spec(m: &dyn MachineView, spec: &str) -> Result<UserEvent, ArgE
             max: (1i128 << width) - 1,
         }));
     }
-    let v = value::parse_value(text, width).map_err(bad)?;
+    // A fixed-point location takes a decimal number as TML writes it (`10.`, `2.5`).
+    let is_decimal = text.contains('.') && !text.contains('(');
+    let v = match &info {
+        Some(info) if info.reading() == value::Format::Q16 && is_decimal => {
+            value::parse_value(&format!("q16({})", text.trim()), width)
+        }
+        _ => value::parse_value(text, width),
+    }
+    .map_err(bad)?;
     Ok(UserEvent {
         at: Pos::default(),
         loc,

@@ -12,7 +12,8 @@
 //! - Values are 64-bit signed integers: a location reads as its number (signed locations
 //!   sign-extended, a TML `fixed` as its raw Q16.16 bits), a relay or input as 0 or 1.
 //!   Literals are decimal, `0x` hex or `0b` binary. `bcd(x)` is x's decimal digits as BCD
-//!   (`V2000 == bcd(1250)` holds when V2000 holds 0x1250).
+//!   (`V2000 == bcd(1250)` holds when V2000 holds 0x1250); `q16(1.5)` is a decimal number's
+//!   Q16.16 pattern (98304).
 //! - Operators, loosest first: `||`, `&&`, comparisons `== != < <= > >=`, `|`, `^`, `&`,
 //!   shifts `<< >>`, `+ -`, `* / %`, unary `! - ~`. Comparisons and logic give 0 or 1; a
 //!   value is true when it is not 0. Arithmetic wraps; a division or remainder by 0 gives 0
@@ -231,6 +232,8 @@ fn resolve_in<M: MachineView + ?Sized>(m: &M) -> impl Fn(&str) -> Option<(Loc, u
 #[derive(Clone, Debug, PartialEq)]
 enum Tok {
     Num(i64),
+    /// A number with a decimal point, for `q16(…)` alone.
+    Decimal(String),
     Name(String),
     /// `.N` after a name: a bit of the word.
     Bit(u8),
@@ -266,7 +269,23 @@ fn lex(text: &str) -> Result<Vec<Token>, ExprError> {
             }
             j
         };
-        if c.is_ascii_digit() {
+        if c.is_ascii_digit() && {
+            let j = word_end(i);
+            chars.get(j) == Some(&'.') && chars[i..j].iter().all(char::is_ascii_digit)
+        } {
+            // `1.5`, `10.`: a decimal number, read only inside q16(…).
+            let point = word_end(i);
+            let j = (point + 1..=chars.len())
+                .find(|&j| chars.get(j).is_none_or(|c| !c.is_ascii_digit()))
+                .unwrap_or(chars.len());
+            let word: String = chars[i..j].iter().collect();
+            out.push(Token {
+                tok: Tok::Decimal(word.clone()),
+                col,
+                text: word,
+            });
+            i = j;
+        } else if c.is_ascii_digit() {
             let j = word_end(i);
             let word: String = chars[i..j].iter().collect();
             let value = value::parse_integer(&word)
@@ -482,6 +501,37 @@ impl Parser<'_> {
                 }
                 self.nodes.push(Node::Bcd);
             }
+            Tok::Name(name)
+                if name.eq_ignore_ascii_case("q16")
+                    && matches!(
+                        self.tokens.get(self.at),
+                        Some(Token {
+                            tok: Tok::Sym("("),
+                            ..
+                        })
+                    ) =>
+            {
+                // A number as Q16.16, rounded as the assemblers round it: `q16(1.5)` is 98304.
+                self.at += 1;
+                let mut text = String::new();
+                while let Some(t) = self.tokens.get(self.at) {
+                    match &t.tok {
+                        Tok::Sym(")") => break,
+                        Tok::Sym("-") | Tok::Num(_) | Tok::Decimal(_) => text.push_str(&t.text),
+                        _ => return self.error("q16(…) takes a number, like q16(1.5)"),
+                    }
+                    self.at += 1;
+                }
+                if self.tokens.get(self.at).is_none() {
+                    return self.error("')' is missing after q16(…");
+                }
+                let value = match value::parse_q16(&text) {
+                    Ok(v) => v,
+                    Err(e) => return self.error(e.to_string()),
+                };
+                self.at += 1;
+                self.nodes.push(Node::Const(value));
+            }
             Tok::Name(name) => {
                 let Some((loc, width, signed)) = (self.m)(name) else {
                     // A constant the program names (DEF names are case-sensitive).
@@ -498,6 +548,17 @@ impl Parser<'_> {
                         return Ok(());
                     }
                     self.at -= 1;
+                    // A DL205 K constant (`K50`) is a number in a program's text, not a
+                    // location: say what to write in an expression.
+                    if let Some(digits) = name.strip_prefix(['K', 'k'])
+                        && !digits.is_empty()
+                        && digits.chars().all(|c| c.is_ascii_hexdigit())
+                    {
+                        return self.error(format!(
+                            "'{name}' is a K constant of a program's text; here write {digits}, \
+                             or bcd({digits}) to compare with a BCD word"
+                        ));
+                    }
                     return self.error(format!("there is no location named '{name}'"));
                 };
                 if let Some(Token {
@@ -513,6 +574,12 @@ impl Parser<'_> {
                 } else {
                     self.nodes.push(Node::Read { loc, width, signed });
                 }
+            }
+            Tok::Decimal(text) => {
+                self.at -= 1;
+                return self.error(format!(
+                    "{text} is not a whole number: write q16({text}) for its Q16.16 pattern"
+                ));
             }
             _ => {
                 self.at -= 1;

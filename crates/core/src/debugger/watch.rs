@@ -67,6 +67,45 @@ impl Debugger {
             .map_or(Format::Signed, |info| info.reading())
     }
 
+    /// Where a watch's arithmetic goes past what the machine's registers hold: watches
+    /// compute in 64 bits, so `R20 * R21` shows the exact product where the machine's 32-bit
+    /// multiply wraps. `None` for a plain location, or a value that fits the widest location
+    /// the expression reads; else what that width would hold ("in 32 bits it would wrap to
+    /// -1294967296").
+    pub fn watch_wrap_note(&self, index: usize) -> Option<String> {
+        let watch = self.watches.get(index)?;
+        if self.find(watch.expr.trim()).is_some() {
+            return None;
+        }
+        let m = self.machine();
+        let expr = super::expr::Expr::compile(&watch.expr, m).ok()?;
+        let infos: Vec<_> = expr.locations().filter_map(|loc| m.info(loc)).collect();
+        let width = infos.iter().map(|i| i.width).max()?;
+        if width >= 64 || width <= 1 {
+            return None;
+        }
+        let value = expr.eval(m);
+        let signed = infos.iter().any(|i| i.signed);
+        let fits = if signed {
+            let half = 1i64 << (width - 1);
+            (-half..half).contains(&value)
+        } else {
+            (0..1i64 << width).contains(&value)
+        };
+        if fits {
+            return None;
+        }
+        let raw = value as u64 & crate::machine::value::mask(width);
+        let wrapped = if signed {
+            crate::machine::value::sign_extend(raw, width).to_string()
+        } else {
+            raw.to_string()
+        };
+        Some(format!(
+            "computed in 64 bits: a {width}-bit register would hold {wrapped} (it wraps)"
+        ))
+    }
+
     /// The watch's value at the current position, or why it has none.
     pub fn watch_value(&self, index: usize) -> Result<i64, ExprError> {
         let watch = self.watches.get(index).ok_or_else(|| ExprError {

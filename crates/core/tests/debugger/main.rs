@@ -6,6 +6,7 @@ mod common;
 mod breakpoints;
 mod faults_and_flow;
 mod long_runs;
+mod messages;
 mod opennet_debugger;
 mod readings;
 mod threaded;

@@ -125,17 +125,17 @@ fn every_example_session_is_tested() {
         names,
         [
             "dl205_bcd_stack_task.ron",
-            "dl205_subs_lesson.ron",
+            "dl205_subs_walkthrough.ron",
             "dl205_timer_counter_task.ron",
             "fifo_lifo_task.ron",
-            "fifo_queue_lesson.ron",
-            "fixed_point_lesson.ron",
+            "fifo_queue_walkthrough.ron",
+            "fixed_point_walkthrough.ron",
             "homing_on_input.ron",
-            "opennet_overflow_lesson.ron",
+            "opennet_overflow_walkthrough.ron",
             "opennet_overflow_task.ron",
             "opennet_timer_counter_task.ron",
             "q16_scaling_task.ron",
-            "tml_fixed_point_lesson.ron",
+            "tml_fixed_point_walkthrough.ron",
             "tml_product_task.ron"
         ]
     );
@@ -144,7 +144,7 @@ fn every_example_session_is_tested() {
 /// The DL205 lesson opens on the SUBS with all eight stack levels full.
 #[test]
 fn dl205_lesson_opens_on_subs_with_the_stack_full() {
-    let (_, mut d) = example_in("sessions", "dl205_subs_lesson.ron");
+    let (_, mut d) = example_in("sessions", "dl205_subs_walkthrough.ron");
     let m = d
         .machine_as::<servoscope_core::machine::dl205::Dl205>()
         .expect("a DL205 machine");
@@ -163,7 +163,7 @@ fn dl205_lesson_opens_on_subs_with_the_stack_full() {
 /// The OpenNet lesson opens just after ADD(I) 30000 + 5000 overflowed: stored 0x08B8, M8003 on.
 #[test]
 fn opennet_lesson_opens_after_the_overflow() {
-    let (s, d) = example_in("sessions", "opennet_overflow_lesson.ron");
+    let (s, d) = example_in("sessions", "opennet_overflow_walkthrough.ron");
     let m = d
         .machine_as::<servoscope_core::machine::opennet::OpenNet>()
         .expect("an OpenNet machine");
@@ -179,7 +179,7 @@ fn opennet_lesson_opens_after_the_overflow() {
 /// the next statement reads its integer part from PRODH.
 #[test]
 fn tml_lesson_opens_on_the_multiply() {
-    let (s, mut d) = example_in("sessions", "tml_fixed_point_lesson.ron");
+    let (s, mut d) = example_in("sessions", "tml_fixed_point_walkthrough.ron");
     let m = d
         .machine_as::<servoscope_core::machine::tml::Tml>()
         .expect("a TML machine");
@@ -197,8 +197,8 @@ fn tml_lesson_opens_on_the_multiply() {
 #[test]
 fn format_1_fixtures_are_format_1() {
     for name in [
-        "fifo_queue_lesson.ron",
-        "fixed_point_lesson.ron",
+        "fifo_queue_walkthrough.ron",
+        "fixed_point_walkthrough.ron",
         "homing_on_input.ron",
     ] {
         let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
@@ -217,7 +217,7 @@ fn fixed_point_lesson_opens_on_the_multiply() {
 }
 
 fn fixed_point_lesson(dir: &str) {
-    let (s, d) = example_in(dir, "fixed_point_lesson.ron");
+    let (s, d) = example_in(dir, "fixed_point_walkthrough.ron");
     assert_eq!(
         d.machine().pc_line(),
         Some(16),
@@ -239,7 +239,7 @@ fn fifo_queue_lesson_has_its_breakpoints() {
 }
 
 fn fifo_queue_lesson(dir: &str) {
-    let (_, mut d) = example_in(dir, "fifo_queue_lesson.ron");
+    let (_, mut d) = example_in(dir, "fifo_queue_walkthrough.ron");
     assert_eq!(d.machine().ticks(), 0);
     d.set_speed(Speed::Unlimited);
     d.run();

@@ -80,7 +80,8 @@ impl Event {
                 line: Some(l),
                 explanation,
             } => format!(
-                "{location} was written at {tick} {at}, {}: {explanation}",
+                "{location} was written at {}, {}: {explanation}",
+                position(tick, *at),
                 at_line(*l)
             ),
             Event::WrittenBy {
@@ -88,10 +89,23 @@ impl Event {
                 at,
                 line: None,
                 explanation,
-            } => format!("{location} was set at {tick} {at} by {explanation}"),
+            } => format!(
+                "{location} was set at {} by {explanation}",
+                position(tick, *at)
+            ),
             Event::NeverWritten(name) => {
                 format!("Nothing wrote {name} before here: it holds its value from the start")
             }
         }
+    }
+}
+
+/// A position in words: "scan 1186, instruction 2" (the second instruction of that scan ran
+/// just before it), or "tick 40" at a tick's start. `1186.2` read as a fraction of a scan.
+fn position(tick: &str, at: crate::machine::Pos) -> String {
+    if at.step == 0 {
+        format!("{tick} {}", at.tick)
+    } else {
+        format!("{tick} {}, instruction {}", at.tick, at.step)
     }
 }

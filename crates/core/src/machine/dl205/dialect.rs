@@ -65,8 +65,8 @@ pub static DIALECT: DialectInfo = DialectInfo {
             include_str!("../../../../../sessions/dl205_bcd_stack_task.ron"),
         ),
         (
-            "dl205_subs_lesson.ron",
-            include_str!("../../../../../sessions/dl205_subs_lesson.ron"),
+            "dl205_subs_walkthrough.ron",
+            include_str!("../../../../../sessions/dl205_subs_walkthrough.ron"),
         ),
         (
             "dl205_timer_counter_task.ron",

@@ -61,8 +61,8 @@ pub static DIALECT: DialectInfo = DialectInfo {
     projects: &[],
     lessons: &[
         (
-            "opennet_overflow_lesson.ron",
-            include_str!("../../../../../sessions/opennet_overflow_lesson.ron"),
+            "opennet_overflow_walkthrough.ron",
+            include_str!("../../../../../sessions/opennet_overflow_walkthrough.ron"),
         ),
         (
             "opennet_overflow_task.ron",

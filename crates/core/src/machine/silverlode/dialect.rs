@@ -52,12 +52,12 @@ pub static DIALECT: DialectInfo = DialectInfo {
             include_str!("../../../../../sessions/fifo_lifo_task.ron"),
         ),
         (
-            "fifo_queue_lesson.ron",
-            include_str!("../../../../../sessions/fifo_queue_lesson.ron"),
+            "fifo_queue_walkthrough.ron",
+            include_str!("../../../../../sessions/fifo_queue_walkthrough.ron"),
         ),
         (
-            "fixed_point_lesson.ron",
-            include_str!("../../../../../sessions/fixed_point_lesson.ron"),
+            "fixed_point_walkthrough.ron",
+            include_str!("../../../../../sessions/fixed_point_walkthrough.ron"),
         ),
         (
             "homing_on_input.ron",

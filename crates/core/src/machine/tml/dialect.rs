@@ -69,8 +69,8 @@ pub static DIALECT: DialectInfo = DialectInfo {
     )],
     lessons: &[
         (
-            "tml_fixed_point_lesson.ron",
-            include_str!("../../../../../sessions/tml_fixed_point_lesson.ron"),
+            "tml_fixed_point_walkthrough.ron",
+            include_str!("../../../../../sessions/tml_fixed_point_walkthrough.ron"),
         ),
         (
             "tml_product_task.ron",

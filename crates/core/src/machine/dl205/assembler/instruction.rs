@@ -23,7 +23,16 @@ fn other_notation(m: &str, ts: &[Tok]) -> Option<Error> {
             "'{}' is a line number in DL305/handheld notation: DirectSOFT mnemonic text has none, start the line with the mnemonic",
             first.text
         )
-    } else if let Some(bare) = args.iter().find(|t| digits(t) && t.text.len() >= 3) {
+    } else if let Some(bare) = (args.iter().enumerate())
+        // A timer's or counter's preset is a K constant: its own message says so.
+        .filter(|(k, _)| {
+            !(*k == 1
+                && ["TMR", "TMRF", "TMRA", "TMRAF", "CNT", "SGCNT", "UDC"]
+                    .contains(&first.text.to_ascii_uppercase().as_str()))
+        })
+        .map(|(_, t)| t)
+        .find(|t| digits(t) && t.text.len() >= 3)
+    {
         return Some(Error {
             col: bare.col,
             message: format!(
@@ -314,9 +323,27 @@ pub(super) fn instruction(
                 }
             } else {
                 let Some(k) = k_hex(p) else {
+                    // A bare number is the commonest slip: say what K it means in this box.
+                    let hint = match p.text.parse::<u32>() {
+                        Ok(n) if timer => {
+                            let (unit, per_second) = if m.ends_with('F') {
+                                ("hundredths", 100)
+                            } else {
+                                ("tenths", 10)
+                            };
+                            format!(
+                                ": write K{n} (= {}.{:0width$} s, in {unit} of a second)",
+                                n / per_second,
+                                n % per_second,
+                                width = if per_second == 100 { 2 } else { 1 }
+                            )
+                        }
+                        Ok(n) => format!(": write K{n} ({n} counts)"),
+                        Err(_) => String::new(),
+                    };
                     return err(
                         p.col,
-                        format!("'{}': the preset is a K constant or a V word", p.text),
+                        format!("'{}': the preset is a K constant or a V word{hint}", p.text),
                     );
                 };
                 if !is_bcd(k) {

@@ -76,7 +76,18 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
             block_start = Some(line_no);
             continue;
         }
-        let code = line.find("//").map_or(line, |k| &line[..k]);
+        let mut code = line.find("//").map_or(line, |k| &line[..k]);
+        // The code before it is still read, so the rungs after it are checked as written.
+        if let Some(k) = code.find(';') {
+            let col = code[..k].chars().count() + 1;
+            errors.push(Diagnostic::error(
+                line_no,
+                col,
+                1,
+                "DL205 comments start with // (';' starts a comment in OpenNet, not here)",
+            ));
+            code = &code[..k];
+        }
         let mut ts = Vec::new();
         let mut col = 0;
         for part in code.split([' ', '\t']) {
@@ -89,6 +100,20 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
             col += part.len() + 1;
         }
         if ts.is_empty() {
+            continue;
+        }
+        // `OR STR` for ORSTR: the second word would be read as a bit and refused.
+        if let [first, second, ..] = ts.as_slice()
+            && second.text.eq_ignore_ascii_case("STR")
+            && ["AND", "OR"].contains(&first.text.to_ascii_uppercase().as_str())
+        {
+            let word = format!("{}STR", first.text.to_ascii_uppercase());
+            errors.push(Diagnostic::error(
+                line_no,
+                first.col,
+                first.text.len() + 4,
+                format!("write {word} as one word: it joins the last two branches"),
+            ));
             continue;
         }
         match instruction(&ts, &mut program, &suggester) {

@@ -163,7 +163,17 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
         let line_no = i + 1;
         pass.line = line_no;
         let chars: Vec<char> = line.chars().collect();
-        let code_end = chars.iter().position(|&c| c == ';').unwrap_or(chars.len());
+        let mut code_end = chars.iter().position(|&c| c == ';').unwrap_or(chars.len());
+        // The code before it is still read, so the rungs after it are checked as written.
+        if let Some(k) = chars[..code_end].windows(2).position(|w| w == ['/', '/']) {
+            errors.push(Diagnostic::error(
+                line_no,
+                k + 1,
+                2,
+                "OpenNet comments start with ; ('//' starts a comment in DL205, not here)",
+            ));
+            code_end = k;
+        }
         let ts = tokens(&chars[..code_end]);
         if ts.is_empty() {
             continue;

@@ -189,7 +189,11 @@ pub(super) fn bit(t: &Token, output: bool, pass: &mut Pass) -> Result<Bit, Error
             return err(
                 t.col,
                 t.text.len(),
-                format!("'{}' is not an operand", t.text),
+                format!(
+                    "'{}' is not an operand{}",
+                    t.text,
+                    other_vendor_hint(&t.text)
+                ),
             );
         }
     };
@@ -336,8 +340,9 @@ pub(super) fn word(
                 t.col,
                 len,
                 format!(
-                    "'{}' is not an operand (D, I, Q, M, R, T, C or a constant)",
-                    t.text
+                    "'{}' is not an operand (D, I, Q, M, R, T, C or a constant){}",
+                    t.text,
+                    other_vendor_hint(&t.text)
                 ),
             ),
         };
@@ -497,4 +502,20 @@ pub(super) fn dest_point(
         .extend((index..index + span).map(|i| (area, i)));
     pass.note_m_write(area, index, span);
     Ok(((area, index), repeat))
+}
+
+/// For a DL205 (or generic PLC) name in an OpenNet program, the OpenNet one: outputs are Q,
+/// inputs I, internal relays M.
+fn other_vendor_hint(text: &str) -> String {
+    let upper = text.to_ascii_uppercase();
+    let digits = upper.trim_start_matches(|c: char| c.is_ascii_alphabetic());
+    let letters = &upper[..upper.len() - digits.len()];
+    let (kind, letter) = match letters {
+        "Y" => ("outputs", "Q"),
+        "X" => ("inputs", "I"),
+        "C" if digits.is_empty() => return String::new(),
+        "V" => ("data registers", "D"),
+        _ => return String::new(),
+    };
+    format!(": OpenNet's {kind} are {letter} ({letter}{digits})")
 }
