@@ -146,6 +146,7 @@ impl ServoscopeApp {
                             max_ticks: (self.debugger.machine().is_plc()
                                 && self.debugger.pos().tick > 1)
                                 .then(|| self.debugger.pos().tick),
+                            handed_out: false,
                         },
                         Some(start),
                     );

@@ -22,6 +22,8 @@ pub struct LessonView {
     /// A Check being graded in the background.
     grading: Option<Grading>,
     pub editing: bool,
+    /// Reset lesson was pressed on a changed program: asking whether to lose the changes.
+    pub confirm_reset: bool,
     /// The lesson as it was opened (program, position, edits): what Reset lesson goes back to.
     pub start: Option<Session>,
     cache: CommonMarkCache,
@@ -35,6 +37,7 @@ impl LessonView {
             checked: None,
             grading: None,
             editing: false,
+            confirm_reset: false,
             start,
             cache: CommonMarkCache::default(),
         }
@@ -215,11 +218,39 @@ pub fn show(
             .on_hover_text("Back to the lesson's program and position")
             .clicked()
         {
-            out.push(Command::LessonReset);
+            // The student's program is thrown away: ask first when it was changed.
+            let changed = view
+                .start
+                .as_ref()
+                .is_some_and(|s| s.project() != *debugger.project());
+            if changed {
+                view.confirm_reset = true;
+            } else {
+                out.push(Command::LessonReset);
+            }
         }
-        ui.toggle_value(&mut view.editing, "Edit lesson")
-            .on_hover_text("Write the title, the steps' texts and their checks");
+        if !view.lesson.handed_out || view.editing {
+            ui.toggle_value(&mut view.editing, "Edit lesson")
+                .on_hover_text("Write the title, the steps' texts and their checks");
+        }
     });
+    if view.confirm_reset {
+        ui.horizontal_wrapped(|ui| {
+            ui.label(
+                RichText::new(
+                    "Reset lesson puts back the lesson's program: your changes to it are lost.",
+                )
+                .color(super::theme::palette(ui.visuals().dark_mode).error),
+            );
+            if ui.button("Reset and lose my changes").clicked() {
+                view.confirm_reset = false;
+                out.push(Command::LessonReset);
+            }
+            if ui.button("Keep my program").clicked() {
+                view.confirm_reset = false;
+            }
+        });
+    }
     ui.separator();
     if view.editing {
         edit(ui, debugger, view);
@@ -303,6 +334,14 @@ fn edit(ui: &mut egui::Ui, debugger: &Debugger, view: &mut LessonView) {
                 )
                 .labelled_by(label.id);
             });
+            ui.checkbox(
+                &mut view.lesson.handed_out,
+                "Hand out: students get no Edit lesson",
+            )
+            .on_hover_text(
+                "Saved with the lesson: whoever opens it sees the steps and Check, not the \
+                 editor (keep a copy without it for yourself)",
+            );
             ui.horizontal(|ui| {
                 let words = debugger.dialect().vocabulary;
                 let mut own = view.lesson.max_ticks.is_some();

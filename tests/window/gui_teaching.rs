@@ -135,12 +135,59 @@ fn reset_lesson_restores_the_lessons_program_and_position() {
     apply(&mut h, Command::LessonStep(1));
     h.get_by_label("Reset lesson").click();
     h.run_steps(2);
+    h.get_by_label("Reset and lose my changes").click();
+    h.run_steps(2);
     let app = h.state();
     assert_eq!(app.debugger.source(), start);
     assert_eq!(app.debugger.machine().pos().tick, 0);
     let lesson = app.lesson.as_ref().expect("the lesson stays open");
     assert_eq!(lesson.step, 1, "at the step the student was on");
     assert!(app.layout.is_shown(&Pane::Lesson));
+}
+
+/// #43 item 18: Reset lesson asks before it throws the student's changes away, and a handed
+/// out lesson has no Edit lesson.
+#[test]
+fn reset_lesson_asks_before_losing_changes_and_a_handed_out_lesson_has_no_editor() {
+    let mut h = harness(lesson_app("gui-ask.ron"));
+    let start = h.state().debugger.source().to_string();
+    // Unchanged: Reset goes at once.
+    h.get_by_label("Reset lesson").click();
+    h.run_steps(2);
+    assert!(h.query_by_label("Keep my program").is_none());
+    // Changed: it asks, and "Keep my program" keeps it.
+    apply(&mut h, Command::EditSource("        END\n".to_string()));
+    h.get_by_label("Reset lesson").click();
+    h.run_steps(2);
+    h.get_by_label_contains("your changes to it are lost");
+    h.get_by_label("Keep my program").click();
+    h.run_steps(2);
+    assert_eq!(h.state().debugger.source(), "        END\n");
+    h.get_by_label("Reset lesson").click();
+    h.run_steps(2);
+    h.get_by_label("Reset and lose my changes").click();
+    h.run_steps(2);
+    assert_eq!(h.state().debugger.source(), start);
+
+    // A lesson saved with "Hand out" opens without the editor.
+    h.get_by_label("Edit lesson").click();
+    h.run_steps(2);
+    h.get_by_label("Hand out: students get no Edit lesson")
+        .click();
+    h.run_steps(2);
+    h.get_by_label("Edit lesson").click();
+    h.run_steps(2);
+    let path = std::env::temp_dir().join(format!("servoscope-{}-handout.ron", std::process::id()));
+    apply(&mut h, Command::SaveSessionTo(path.clone()));
+    let mut student = harness({
+        let mut app = ServoscopeApp::new(Prefs::default());
+        app.open_path(path.clone());
+        app
+    });
+    student.run_steps(2);
+    student.get_by_label("✔ Check this step");
+    assert!(student.query_by_label("Edit lesson").is_none());
+    let _ = std::fs::remove_file(path);
 }
 
 #[test]

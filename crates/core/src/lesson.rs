@@ -28,6 +28,10 @@ pub struct Lesson {
     /// How many ticks (scans for a PLC) `servoscope check` runs the program before grading;
     /// `None`: the dialect's runner default. `--max-ticks` overrides it.
     pub max_ticks: Option<u64>,
+    /// Handed out to students: the window offers no Edit lesson (the teacher's copy, without
+    /// it, keeps it).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub handed_out: bool,
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]

@@ -211,6 +211,7 @@ fn a_lesson_written_in_code_round_trips() {
             checks: vec!["T0 && !Y0".to_string()],
         }],
         max_ticks: Some(400),
+        handed_out: true,
     };
     let session = Session {
         lesson: Some(lesson.clone()),
