@@ -501,14 +501,25 @@ pub fn toolbar(
                 ));
             }
             let level = if high { "high" } else { "low" };
+            let push = super::push_buttons::is_push_button(ui.ctx(), loc);
             let hint = match forced {
                 Some(_) => format!("{name} is forced {level}: release the force to switch it"),
-                None => format!("{name} is {level}: click to switch it (works while running)"),
+                None if push => format!(
+                    "{name} is {level}: a push button, high while you hold it down \
+                     (right-click to make it a switch)"
+                ),
+                None => format!(
+                    "{name} is {level}: click to switch it (works while running); right-click \
+                     to make it a push button"
+                ),
             };
-            let r = ui.add(button).on_hover_text(hint);
-            if r.clicked() && forced.is_none() {
-                out.push(Command::Debug(Action::SetInput(loc, !high)));
+            let r = ui
+                .add(button.sense(egui::Sense::click_and_drag()))
+                .on_hover_text(hint);
+            if forced.is_none() {
+                super::push_buttons::switch_input(&r, loc, high, out);
             }
+            r.context_menu(|ui| super::push_buttons::push_button_item(ui, loc));
         }
         let large = machine
             .spaces()

@@ -21,6 +21,7 @@ pub mod log;
 pub mod panels;
 pub mod plot;
 mod prefs;
+pub mod push_buttons;
 pub mod registers;
 pub mod settings;
 mod show;

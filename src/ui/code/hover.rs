@@ -42,6 +42,9 @@ pub fn hover_value(m: &dyn servoscope_core::machine::MachineView, word: &str) ->
             Some(alias) => format!("{} ({alias})", info.name),
             None => info.name.clone(),
         }];
+        if let Some(doc) = m.location_doc(loc) {
+            lines.push(doc);
+        }
         if info.width == 1 {
             // A relay or an input is on or off: "signed −1" or "Q16.16 −0.000015" would be
             // readings of a number it is not.

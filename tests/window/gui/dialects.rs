@@ -558,7 +558,8 @@ fn the_ladder_and_the_io_board_drive_the_debugger() {
     // The I/O board: a click switches X0, and the scan turns Y0 on.
     h.get_by_label("I/O board").click();
     h.run_steps(2);
-    h.get_by_label("X0 lamp").click();
+    // Its comment is its label (#43 item 13).
+    h.get_by_label("X0 lamp (start)").click();
     h.run_steps(2);
     assert_eq!(h.state().debugger.machine().read(x0), 1);
     h.key_press(Key::F8);
@@ -588,4 +589,51 @@ fn the_ladder_and_the_io_board_drive_the_debugger() {
     h.get_by_label("Release all").click();
     h.run_steps(2);
     assert!(h.state().debugger.machine().forces().is_empty());
+}
+
+/// #43 item 13: an input made a push button is on while the button is held and off when it is
+/// released (a switch stays as clicked); a DirectSOFT nickname labels its lamp.
+#[test]
+fn an_input_push_button_is_on_only_while_held() {
+    let dl205 = servoscope_core::registry::by_name("dl205").expect("registered");
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.load_program_as(
+        dl205,
+        "t.dl205",
+        "#BEGIN ELEMENT_DOC\n\"X0\",\"START_PB\",\"\",\"Start\"\n#END\nSTR X0\nOUT Y0\nEND\n",
+    );
+    let mut h = harness(app);
+    h.get_by_label("I/O board").click();
+    h.run_steps(2);
+    let lamp = "X0 lamp (START_PB — Start)";
+    h.get_by_label(lamp).click_secondary();
+    h.run_steps(2);
+    h.get_by_label("Make it a push button (on while held)")
+        .click();
+    h.run_steps(2);
+    let x0 = h.state().debugger.machine().find("X0").expect("X0");
+    let centre = h.get_by_label(lamp).rect().center();
+    h.event(egui::Event::PointerMoved(centre));
+    h.event(egui::Event::PointerButton {
+        pos: centre,
+        button: egui::PointerButton::Primary,
+        pressed: true,
+        modifiers: Modifiers::NONE,
+    });
+    h.run_steps(3);
+    assert_eq!(h.state().debugger.machine().read(x0), 1, "on while held");
+    h.run_steps(3);
+    assert_eq!(h.state().debugger.machine().read(x0), 1, "still held");
+    h.event(egui::Event::PointerButton {
+        pos: centre,
+        button: egui::PointerButton::Primary,
+        pressed: false,
+        modifiers: Modifiers::NONE,
+    });
+    h.run_steps(3);
+    assert_eq!(
+        h.state().debugger.machine().read(x0),
+        0,
+        "off when released"
+    );
 }

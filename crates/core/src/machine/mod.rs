@@ -276,6 +276,11 @@ pub trait MachineView: Send + 'static {
     }
     /// Locations the program text mentions, for "used by the program" filters.
     fn used(&self) -> Vec<Loc>;
+    /// What the program's documentation says of a location: a DirectSOFT nickname and
+    /// description (`START_PB — Start push button`). `None` where it says nothing.
+    fn location_doc(&self, _loc: Loc) -> Option<String> {
+        None
+    }
     /// Names the program itself gives to locations (SilverLode DEFs, TML variables).
     fn program_names(&self) -> Vec<(String, Loc)> {
         Vec::new()

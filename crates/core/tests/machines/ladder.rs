@@ -333,3 +333,56 @@ fn a_duplicate_coil_is_a_warning_naming_both_lines() {
         .expect("assembles");
     assert_eq!(engine.machine().warnings(), []);
 }
+
+/// #43 item 14: a DirectSOFT export's `#BEGIN ELEMENT_DOC` records ("element", "nickname",
+/// "wiring info", "description"; a quote doubled) name their elements: the nickname works in
+/// expressions, the documentation shows on the diagram and in views.
+#[test]
+fn directsoft_element_documentation_names_the_elements() {
+    let source = "#BEGIN ELEMENT_DOC\n\
+        \"X0\",\"START_PB\",\"TB1-3\",\"Start push button\"\n\
+        \"Y0\",\"MOTOR\",\"\",\"Motor \"\"M1\"\" contactor\"\n\
+        #END\n\
+        STR X0\nOUT Y0\nEND\n";
+    let d = by_name("dl205").expect("registered");
+    let mut engine = d
+        .open_text(source, &d.default_settings())
+        .expect("assembles");
+    let m = engine.machine();
+    let x0 = m.find("X0").expect("X0");
+    let y0 = m.find("Y0").expect("Y0");
+    assert_eq!(
+        m.location_doc(x0).as_deref(),
+        Some("START_PB — Start push button")
+    );
+    assert_eq!(
+        m.location_doc(y0).as_deref(),
+        Some("MOTOR — Motor \"M1\" contactor")
+    );
+    let names = m.program_names();
+    assert!(names.contains(&("START_PB".to_string(), x0)), "{names:?}");
+    // On the diagram, under the contact and the coil.
+    let ladder = servoscope_core::machine::plc::ladder::with_comments(m, source, d.classify)
+        .expect("a ladder");
+    let comments: Vec<&str> = ladder.rungs[0]
+        .elements
+        .iter()
+        .map(|e| e.comment.as_str())
+        .collect();
+    assert_eq!(
+        comments,
+        [
+            "START_PB — Start push button",
+            "MOTOR — Motor \"M1\" contactor"
+        ]
+    );
+    // In an expression: the nickname reads X0.
+    engine
+        .edit(x0, servoscope_core::debugger::history::Change::Set(1))
+        .expect("X0 takes 1");
+    engine.run_headless(&[], 1);
+    let expr =
+        servoscope_core::debugger::expr::Expr::compile("START_PB && MOTOR", engine.machine())
+            .expect("compiles");
+    assert_eq!(expr.eval(engine.machine()), 1);
+}

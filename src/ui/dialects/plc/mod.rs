@@ -15,6 +15,6 @@ pub fn panels(between: Vec<Box<dyn DialectPanel>>) -> Vec<Box<dyn DialectPanel>>
         Box::new(boxes::BoxesPanel),
     ];
     all.extend(between);
-    all.push(Box::new(io_board::IoBoard));
+    all.push(Box::new(io_board::IoBoard::default()));
     all
 }

@@ -438,6 +438,18 @@ pub struct Program {
     pub boxes: Vec<BoxDecl>,
     /// The program as a ladder diagram.
     pub ladder: std::sync::Arc<crate::machine::plc::ladder::Ladder>,
+    /// DirectSOFT's element documentation from a `#BEGIN ELEMENT_DOC` block.
+    pub docs: Vec<ElementDoc>,
+}
+
+/// One record of a DirectSOFT `#BEGIN ELEMENT_DOC` block: `"X0","START_PB","wiring","Start
+/// push button"` (element, nickname, wiring info, description; `""` for a quote).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ElementDoc {
+    /// The element as written (`X0`, `V2000`), upper case.
+    pub element: String,
+    pub nickname: String,
+    pub description: String,
 }
 
 /// A timer or counter box of the program: for the Timers & counters panel, RST and the

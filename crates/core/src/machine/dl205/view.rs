@@ -317,7 +317,12 @@ impl MachineView for Dl205 {
         Ok(())
     }
     fn find(&self, name: &str) -> Option<Loc> {
-        parse_name(name)
+        parse_name(name).or_else(|| {
+            // An ELEMENT_DOC nickname, as DirectSOFT lets one be used for its element.
+            let doc = (self.program.docs.iter())
+                .find(|d| !d.nickname.is_empty() && d.nickname.eq_ignore_ascii_case(name.trim()))?;
+            parse_name(&doc.element)
+        })
     }
     fn used(&self) -> Vec<Loc> {
         let mut out: Vec<Loc> = (0..=LEVELS as u32).map(|i| Loc::new(ACC, i)).collect();
@@ -401,6 +406,26 @@ impl MachineView for Dl205 {
     }
     fn note_writes(&self, set: &mut crate::machine::WriteSet) {
         self.each_written(|loc| set.insert(loc));
+    }
+    /// ELEMENT_DOC nicknames (DirectSOFT's names for elements) name their locations in
+    /// views, watches and conditions.
+    fn program_names(&self) -> Vec<(String, Loc)> {
+        (self.program.docs.iter())
+            .filter(|d| !d.nickname.is_empty())
+            .filter_map(|d| Some((d.nickname.clone(), parse_name(&d.element)?)))
+            .collect()
+    }
+    fn location_doc(&self, loc: Loc) -> Option<String> {
+        let name = self.info(loc)?.name;
+        let doc = (self.program.docs.iter())
+            .find(|d| parse_name(&d.element) == Some(loc) || d.element == name)?;
+        let text = match (doc.nickname.as_str(), doc.description.as_str()) {
+            ("", "") => return None,
+            (nick, "") => nick.to_string(),
+            ("", description) => description.to_string(),
+            (nick, description) => format!("{nick} — {description}"),
+        };
+        Some(text)
     }
     fn warnings(&self) -> Vec<crate::machine::Diagnostic> {
         crate::machine::plc::ladder::duplicate_coils(&self.program.ladder)

@@ -6,7 +6,7 @@ mod instruction;
 mod operands;
 mod rungs;
 
-use super::program::{Instr, Program};
+use super::program::{ElementDoc, Instr, Program};
 use crate::machine::Diagnostic;
 use crate::machine::diagnostics::Suggester;
 use control::control;
@@ -57,23 +57,76 @@ struct Tok {
     col: usize,
 }
 
+/// One record of an ELEMENT_DOC block, as DirectSOFT writes it (Host Engineering's
+/// description: double-quoted fields "element", "nickname", "wiring info", "description", a
+/// quote inside doubled). A line that is not such a record is passed over, as the rest of a
+/// `#BEGIN` block is.
+fn element_doc(line: &str) -> Option<ElementDoc> {
+    let mut fields = Vec::new();
+    let mut chars = line.trim().chars().peekable();
+    loop {
+        while chars.peek().is_some_and(|c| c.is_whitespace()) {
+            chars.next();
+        }
+        let mut field = String::new();
+        if chars.peek() == Some(&'"') {
+            chars.next();
+            loop {
+                match chars.next()? {
+                    '"' if chars.peek() == Some(&'"') => {
+                        chars.next();
+                        field.push('"');
+                    }
+                    '"' => break,
+                    c => field.push(c),
+                }
+            }
+            while chars.peek().is_some_and(|&c| c != ',') {
+                chars.next();
+            }
+        } else {
+            while let Some(&c) = chars.peek().filter(|&&c| c != ',') {
+                field.push(c);
+                chars.next();
+            }
+        }
+        fields.push(field.trim().to_string());
+        if chars.next().is_none() {
+            break;
+        }
+    }
+    let element = fields.first()?.to_ascii_uppercase();
+    if element.is_empty() || !element.starts_with(|c: char| c.is_ascii_alphabetic()) {
+        return None;
+    }
+    Some(ElementDoc {
+        element,
+        nickname: fields.get(1).cloned().unwrap_or_default(),
+        description: fields.get(3).cloned().unwrap_or_default(),
+    })
+}
+
 pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
     let text = crate::text::normalize(source);
     let mut program = Program::default();
     let mut errors = Vec::new();
     let suggester = Suggester::default();
     let mut block_start: Option<usize> = None;
+    let mut in_element_doc = false;
     for (i, line) in text.lines().enumerate() {
         let line_no = i + 1;
         let trimmed = line.trim_start().to_ascii_uppercase();
         if block_start.is_some() {
             if trimmed.starts_with("#END") {
                 block_start = None;
+            } else if in_element_doc && let Some(doc) = element_doc(line) {
+                program.docs.push(doc);
             }
             continue;
         }
         if trimmed.starts_with("#BEGIN") {
             block_start = Some(line_no);
+            in_element_doc = trimmed.split_whitespace().nth(1) == Some("ELEMENT_DOC");
             continue;
         }
         let mut code = line.find("//").map_or(line, |k| &line[..k]);

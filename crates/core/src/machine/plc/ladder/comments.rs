@@ -79,5 +79,14 @@ pub fn with_comments(
 ) -> Option<Ladder> {
     let mut ladder = (*m.as_plc()?.ladder()).clone();
     ladder.attach_comments(source, |line| comment_of(classify, line));
+    // An element without a comment of its own shows the program's documentation of its bit
+    // (a DirectSOFT nickname).
+    for e in ladder.rungs.iter_mut().flat_map(|r| r.elements.iter_mut()) {
+        if e.comment.is_empty()
+            && let Some(doc) = m.find(&e.operand).and_then(|loc| m.location_doc(loc))
+        {
+            e.comment = doc;
+        }
+    }
     Some(ladder)
 }
