@@ -28,6 +28,9 @@ impl ServoscopeApp {
                 }
             }
             Command::ShowAddresses(shown) => self.code.addresses = shown,
+            Command::ToggleMaximise(tile) => {
+                self.layout.maximised = (self.layout.maximised != Some(tile)).then_some(tile);
+            }
             Command::OpenDialog => self.files.open.start(ctx),
             Command::OpenPath(path) => self.guarded(Pending::Open(path)),
             Command::SaveSession => match self.session_path.clone() {

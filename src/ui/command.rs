@@ -10,6 +10,8 @@ pub enum Command {
     EditSource(String),
     /// Show each statement's program-memory address in the code view's gutter.
     ShowAddresses(bool),
+    /// A tab double-clicked: fill the window with it, or back to the layout.
+    ToggleMaximise(egui_tiles::TileId),
     /// The text of file `.0` of the program (0 is the top file) was edited.
     EditFile(usize, String),
     OpenDialog,

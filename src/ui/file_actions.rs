@@ -253,6 +253,9 @@ impl ServoscopeApp {
             self.layout
                 .add_beside(layout::Pane::Lesson, &layout::Pane::Bits);
             self.layout.focus(&layout::Pane::Lesson);
+            // The steps are what a student reads first: two thirds of the column, so a small
+            // window shows more than three lines of them.
+            self.layout.give_share(&layout::Pane::Lesson, 0.65);
         } else if self.layout.contains(&layout::Pane::Lesson) {
             self.layout.set_shown(&layout::Pane::Lesson, false);
         }

@@ -112,6 +112,9 @@ pub struct Layout {
     /// Where each closed panel was, so View puts it back there (this run only).
     #[serde(skip)]
     pub places: Vec<(Pane, Place)>,
+    /// The tab double-clicked to fill the window, until it is double-clicked again.
+    #[serde(skip)]
+    pub maximised: Option<TileId>,
 }
 
 /// Where a closed panel stood: beside another panel, as a tab with it or in the same row or
@@ -266,6 +269,7 @@ impl Layout {
         Layout {
             tree: Tree::new(egui::Id::unique(TREE_ID), root, tiles),
             places: Vec::new(),
+            maximised: None,
         }
     }
 
@@ -616,6 +620,34 @@ impl Layout {
         }
     }
 
+    /// Give the tab group holding `pane` this share of its row or column (0 to 1), the rest
+    /// to its neighbours in proportion: the lesson's text gets room in a small window.
+    pub fn give_share(&mut self, pane: &Pane, share: f32) {
+        let tiles = &self.tree.tiles;
+        let Some(tile) = tiles.find_pane(pane) else {
+            return;
+        };
+        let tabs = tiles.parent_of(tile).unwrap_or(tile);
+        let Some(stack) = tiles.parent_of(tabs) else {
+            return;
+        };
+        let Some(egui_tiles::Tile::Container(egui_tiles::Container::Linear(linear))) =
+            self.tree.tiles.get_mut(stack)
+        else {
+            return;
+        };
+        let others: f32 = (linear.children.iter())
+            .filter(|&&c| c != tabs)
+            .map(|&c| linear.shares[c])
+            .sum();
+        let share = share.clamp(0.05, 0.95);
+        if others > 0.0 {
+            linear
+                .shares
+                .set_share(tabs, others * share / (1.0 - share));
+        }
+    }
+
     /// A layout read from preferences, if it is usable: every tile it refers to exists.
     pub fn checked(self) -> Option<Self> {
         let tiles = &self.tree.tiles;
@@ -699,6 +731,20 @@ impl Behavior<Pane> for Panes<'_> {
 
     fn is_tab_closable(&self, _tiles: &Tiles<Pane>, _tile: TileId) -> bool {
         true
+    }
+
+    /// A double-click on a tab fills the window with it (again: back to the layout).
+    fn on_tab_button(
+        &mut self,
+        _tiles: &mut Tiles<Pane>,
+        tile: TileId,
+        button_response: egui::Response,
+    ) -> egui::Response {
+        if button_response.double_clicked() {
+            self.out.push(super::Command::ToggleMaximise(tile));
+        }
+        button_response
+            .on_hover_text("Double-click: fill the window with this panel (again to restore)")
     }
 
     fn on_tab_close(&mut self, tiles: &mut Tiles<Pane>, tile: TileId) -> bool {

@@ -124,6 +124,17 @@ impl ServoscopeApp {
             }
             self.layout.fit_timeline(timeline::height(ui.style()));
             let current_places = self.layout.current_places();
+            // A maximised tab fills the window; one that is gone (closed) maximises nothing.
+            let maximised =
+                self.layout
+                    .maximised
+                    .and_then(|tile| match self.layout.tree.tiles.get(tile) {
+                        Some(egui_tiles::Tile::Pane(pane)) => Some((tile, pane.clone())),
+                        _ => None,
+                    });
+            if maximised.is_none() {
+                self.layout.maximised = None;
+            }
             let mut panes = layout::Panes {
                 debugger: &self.debugger,
                 code: &mut self.code,
@@ -140,7 +151,23 @@ impl ServoscopeApp {
                 places: &mut self.layout.places,
                 current_places: &current_places,
             };
-            self.layout.tree.ui(&mut panes, ui);
+            match maximised {
+                Some((tile, mut pane)) => {
+                    use egui_tiles::Behavior as _;
+                    ui.horizontal(|ui| {
+                        let tab = ui
+                            .selectable_label(true, pane.title())
+                            .on_hover_text("Double-click: back to the layout");
+                        let restore = ui.button("Restore layout");
+                        if tab.double_clicked() || restore.clicked() {
+                            panes.out.push(Command::ToggleMaximise(tile));
+                        }
+                    });
+                    // A pane never asks to be dragged: there is no tree to drop it in.
+                    let _ = panes.pane_ui(ui, tile, &mut pane);
+                }
+                None => self.layout.tree.ui(&mut panes, ui),
+            }
         });
         self.files.windows(&ctx, &self.prefs, &mut commands);
         settings::window(&ctx, &self.debugger, &mut self.settings, &mut commands);

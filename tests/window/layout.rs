@@ -520,3 +520,73 @@ fn a_reopened_panel_comes_back_where_it_was() {
     );
     assert_sound_layout(h.state(), (1280.0, 800.0));
 }
+
+/// #43 item 19: at 1366×768 a rung of four contacts shows its coil (the ladder shrinks to the
+/// panel), and a double-clicked tab fills the window until it is double-clicked again.
+#[test]
+fn a_long_rung_fits_and_a_double_clicked_tab_fills_the_window() {
+    let dl205 = servoscope_core::registry::by_name("dl205").expect("DL205");
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.load_program_as(
+        dl205,
+        "four.dl205",
+        "STR X0\nAND X1\nAND X2\nAND X3\nOUT Y0\nEND\n",
+    );
+    // Frames 50 ms apart, so two clicks (a frame per event) are a double-click.
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1366.0, 768.0))
+        .with_step_dt(0.05)
+        .build_ui_state(|ui, app: &mut ServoscopeApp| app.show(ui), app);
+    h.run_steps(4);
+    let ladder = Pane::Dialect("Ladder".into());
+    let pane = h
+        .state()
+        .layout
+        .pane_rect(&ladder)
+        .expect("the ladder shown");
+    let coil = h.get_by_label("Ladder Y0 line 5").rect();
+    assert!(
+        pane.contains_rect(coil),
+        "the coil {coil:?} inside the panel {pane:?}"
+    );
+    // Double-click the Registers tab: it alone fills the window.
+    let tab = h.get_by_label("Registers").rect().center();
+    h.event(egui::Event::PointerMoved(tab));
+    h.step();
+    for pressed in [true, false, true, false] {
+        h.event(egui::Event::PointerButton {
+            pos: tab,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        });
+    }
+    h.run_steps(3);
+    assert!(h.state().layout.maximised.is_some(), "maximised");
+    assert!(
+        h.query_by_label("Ladder Y0 line 5").is_none(),
+        "the others are hidden"
+    );
+    h.get_by_label("Restore layout").click();
+    h.run_steps(3);
+    assert!(h.state().layout.maximised.is_none());
+    h.get_by_label("Ladder Y0 line 5");
+}
+
+/// #43 item 19: at 900×600 a lesson's steps get two thirds of their column (they showed three
+/// lines).
+#[test]
+fn a_lesson_gets_room_in_a_small_window() {
+    let path = std::env::temp_dir().join(format!("servoscope-{}-room.ron", std::process::id()));
+    let lesson = servoscope_core::registry::lessons()
+        .find(|(_, name, _)| *name == "fifo_lifo_task.ron")
+        .map(|(_, _, text)| text)
+        .expect("the FIFO/LIFO task");
+    std::fs::write(&path, lesson).expect("written");
+    let mut app = ServoscopeApp::new(Prefs::default());
+    app.open_path(path.clone());
+    let h = harness_sized(app, 900.0, 600.0);
+    let lesson = h.state().layout.pane_rect(&Pane::Lesson).expect("shown");
+    assert!(lesson.height() >= 270.0, "{lesson:?}");
+    let _ = std::fs::remove_file(path);
+}

@@ -29,6 +29,9 @@ const LEFT: f32 = 22.0;
 const GAP: f32 = 12.0;
 /// The drawing grows with a wide panel up to this factor (text and symbols with it).
 const MAX_ZOOM: f32 = 1.6;
+/// A narrow panel draws the ladder smaller, down to this, so a rung of four contacts keeps
+/// its coil in view at 1366×768 (text stays readable at 0.7).
+const MIN_ZOOM: f32 = 0.7;
 /// Room right of the right rail for a rung's state ("not yet / this scan").
 const NOTE_W: f32 = 76.0;
 const COMMENT_H: f32 = 15.0;
@@ -169,9 +172,10 @@ impl DialectPanel for LadderPanel {
         let now = m.pos();
         let cols = drawn.ladder.last_col + 1;
         let natural = LEFT + NOTE_W + f32::from(cols) * CELL_W;
-        // A wide panel draws the ladder larger, up to MAX_ZOOM.
+        // A wide panel draws the ladder larger, up to MAX_ZOOM; a narrow one smaller, down to
+        // MIN_ZOOM (then it scrolls sideways).
         let g = Geo {
-            z: (ui.available_width() / natural).clamp(1.0, MAX_ZOOM),
+            z: (ui.available_width() / natural).clamp(MIN_ZOOM, MAX_ZOOM),
         };
         let width = natural * g.z;
         // The rung holding the line about to run, when the position moved there.
@@ -211,14 +215,12 @@ impl DialectPanel for LadderPanel {
                         break;
                     }
                     let first_line = rung.first_line();
-                    let state = match lines.get(&first_line) {
-                        Some(LinePower::NotRun) => RungState::NotRun,
-                        Some(LinePower::MasterOff) => RungState::MasterOff,
-                        _ if now.step > 0 && pc.is_some_and(|pc| first_line >= pc) => {
-                            RungState::NotYet
-                        }
-                        _ => RungState::Done,
-                    };
+                    let state = servoscope_core::machine::plc::ladder::rung_state(
+                        first_line,
+                        lines.get(&first_line).copied(),
+                        now,
+                        pc,
+                    );
                     let power = RungPower::of(rung, state, |i| {
                         m.as_plc().is_some_and(|p| p.ladder_conducts(i))
                     });

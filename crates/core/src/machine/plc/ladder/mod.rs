@@ -24,7 +24,7 @@ mod tests;
 
 pub use comments::{comment_of, with_comments};
 pub use draw::{RUNG_COMMENT_LINES, coil_letters, fit, svg, svg_of, value_text};
-pub use power::{RungPower, RungState, power_of};
+pub use power::{RungPower, RungState, power_of, rung_state};
 
 /// A node of a rung; [`RAIL`] is the left power rail.
 /// A warning for each `OUT`-style coil that drives a bit another rung's `OUT` already drives:

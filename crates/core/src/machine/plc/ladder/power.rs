@@ -88,15 +88,27 @@ pub fn power_of(ladder: &Ladder, m: &dyn crate::machine::MachineView) -> Vec<Run
         .iter()
         .map(|rung| {
             let first = rung.first_line();
-            let state = match lines.iter().find(|(l, _)| *l == first).map(|(_, p)| *p) {
-                Some(crate::machine::LinePower::NotRun) => RungState::NotRun,
-                Some(crate::machine::LinePower::MasterOff) => RungState::MasterOff,
-                // Before the first scan no rung has been evaluated: nothing has power yet.
-                _ if now == crate::machine::Pos::default() => RungState::NotYet,
-                _ if now.step > 0 && pc.is_some_and(|pc| first >= pc) => RungState::NotYet,
-                _ => RungState::Done,
-            };
+            let power = lines.iter().find(|(l, _)| *l == first).map(|(_, p)| *p);
+            let state = rung_state(first, power, now, pc);
             RungPower::of(rung, state, |i| plc.ladder_conducts(i))
         })
         .collect()
+}
+
+/// Where a rung whose first line is `first` stands in the scan, from that line's power, the
+/// position and the line about to run: the one rule the panel and the SVG share.
+pub fn rung_state(
+    first: usize,
+    line_power: Option<crate::machine::LinePower>,
+    now: crate::machine::Pos,
+    pc: Option<usize>,
+) -> RungState {
+    match line_power {
+        Some(crate::machine::LinePower::NotRun) => RungState::NotRun,
+        Some(crate::machine::LinePower::MasterOff) => RungState::MasterOff,
+        // Before the first scan no rung has been evaluated: nothing has power yet.
+        _ if now == crate::machine::Pos::default() => RungState::NotYet,
+        _ if now.step > 0 && pc.is_some_and(|pc| first >= pc) => RungState::NotYet,
+        _ => RungState::Done,
+    }
 }
