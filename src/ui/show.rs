@@ -163,8 +163,11 @@ impl ServoscopeApp {
                             panes.out.push(Command::ToggleMaximise(tile));
                         }
                     });
-                    // A pane never asks to be dragged: there is no tree to drop it in.
-                    let _ = panes.pane_ui(ui, tile, &mut pane);
+                    // Below the header row; a pane never asks to be dragged here (there is no
+                    // tree to drop it in).
+                    let rest = ui.available_rect_before_wrap();
+                    let mut below = ui.new_child(egui::UiBuilder::new().max_rect(rest));
+                    let _ = panes.pane_ui(&mut below, tile, &mut pane);
                 }
                 None => self.layout.tree.ui(&mut panes, ui),
             }

@@ -293,3 +293,36 @@ fn big_slot_values_read_in_k_m_and_g() {
     assert_eq!(compact(i32::MIN), "-2.15G");
     assert_eq!(compact(i32::MAX), "2.15G");
 }
+
+/// #43 item 16: with head = tail the H and T letters never print on top of each other, in a
+/// small ring (one "H T" outside) or a large one (H outside, T inside): the large one, in a
+/// maximised Queues panel, drew both outside.
+#[test]
+fn head_and_tail_letters_never_overlap() {
+    let mut h = harness(app_with("CLD Q_INIT, 10, 40, 4\nEND"));
+    step_n(&mut h, 1);
+    let queues = servoscope::ui::layout::Pane::Dialect("Queues".into());
+    let letters = |h: &Harness<'static, ServoscopeApp>| {
+        let head = h.get_by_label("Queue R40 head at slot 0").rect();
+        let tail = h.get_by_label("Queue R40 tail at slot 0").rect();
+        (head, tail)
+    };
+    // A small ring: one "H T" pair outside, both marks at its place.
+    let (head, tail) = letters(&h);
+    assert_eq!(head, tail, "one pair of letters");
+    let tile = h
+        .state()
+        .layout
+        .tree
+        .tiles
+        .find_pane(&queues)
+        .expect("the Queues panel");
+    let ctx = h.ctx.clone();
+    h.state_mut()
+        .apply(&ctx, servoscope::ui::Command::ToggleMaximise(tile));
+    h.run_steps(3);
+    assert!(h.state().layout.maximised.is_some());
+    // A large ring: H outside, T inside, apart.
+    let (head, tail) = letters(&h);
+    assert!(!head.intersects(tail), "H {head:?} and T {tail:?}");
+}

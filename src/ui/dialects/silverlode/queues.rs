@@ -594,7 +594,7 @@ fn ring(
     let head_pos = marker(h.head, true, if together { "H T" } else { "H" }, p.mnemonic);
     let tail_pos = marker(
         h.tail,
-        tail_inside,
+        !tail_inside,
         if together { "" } else { "T" },
         p.condition,
     );
