@@ -176,7 +176,7 @@ pub fn show(
     let Some(view) = view else {
         ui.label("No lesson is open.");
         ui.label(
-            "Examples → a lesson opens one; File → Save as lesson… makes one of this session.",
+            "File → Examples and lessons → a dialect → Lessons opens one; File → Save as lesson… makes one of this session.",
         );
         return;
     };
@@ -306,16 +306,24 @@ fn results(ui: &mut egui::Ui, debugger: &Debugger, view: &LessonView) {
         summary.push_str(" — the program has changed since: Check again");
     }
     ui.label(RichText::new(summary).strong());
-    for o in outcomes {
-        let (mark, colour) = if o.pass { ("✓", pass) } else { ("✗", fail) };
-        let detail = o.detail();
-        let line = if detail.is_empty() {
-            format!("{mark} {}", o.expr)
-        } else {
-            format!("{mark} {}   {detail}", o.expr)
-        };
-        ui.label(RichText::new(line).monospace().color(colour));
-    }
+    // At most two fifths of the panel, scrolled: the step's text stays in view under it (in a
+    // 900×600 window the results left only the step's heading).
+    egui::ScrollArea::vertical()
+        .id_salt("lesson_results")
+        .max_height(ui.available_height() * 0.4)
+        .auto_shrink([false, true])
+        .show(ui, |ui| {
+            for o in outcomes {
+                let (mark, colour) = if o.pass { ("✓", pass) } else { ("✗", fail) };
+                let detail = o.detail();
+                let line = if detail.is_empty() {
+                    format!("{mark} {}", o.expr)
+                } else {
+                    format!("{mark} {}   {detail}", o.expr)
+                };
+                ui.label(RichText::new(line).monospace().color(colour));
+            }
+        });
     ui.separator();
 }
 

@@ -562,8 +562,19 @@ fn the_ladder_and_the_io_board_drive_the_debugger() {
     h.get_by_label("X0 lamp (start)").click();
     h.run_steps(2);
     assert_eq!(h.state().debugger.machine().read(x0), 1);
+    // F8 stops at the breakpoint on line 3 inside the scan, then finishes the scan.
     h.key_press(Key::F8);
     h.run_steps(3);
+    assert_eq!(
+        h.state().debugger.event(),
+        Some(&servoscope_core::debugger::Event::Breakpoint(3))
+    );
+    h.key_press(Key::F8);
+    h.run_steps(3);
+    // The rail again: the breakpoint goes.
+    h.get_by_label("Ladder rung 1 rail").click();
+    h.run_steps(2);
+    assert!(!h.state().debugger.breakpoints().contains(&3));
     let y1 = h.state().debugger.machine().find("Y1").expect("Y1");
     assert_eq!(
         h.state().debugger.machine().read(y1),

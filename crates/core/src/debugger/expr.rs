@@ -416,6 +416,17 @@ fn binary(sym: &str) -> Option<(Op, u8)> {
 }
 
 impl Parser<'_> {
+    /// Whether the next token is `(`: a name before it is a function (`bcd(…)`, `q16(…)`).
+    fn opens_call(&self) -> bool {
+        matches!(
+            self.tokens.get(self.at),
+            Some(Token {
+                tok: Tok::Sym("("),
+                ..
+            })
+        )
+    }
+
     fn error<T>(&self, message: impl Into<String>) -> Result<T, ExprError> {
         let col = self.tokens.get(self.at).map_or(self.end_col, |t| t.col);
         Err(ExprError {
@@ -481,16 +492,7 @@ impl Parser<'_> {
                 }
             }
             Tok::Num(v) => self.nodes.push(Node::Const(*v)),
-            Tok::Name(name)
-                if name.eq_ignore_ascii_case("bcd")
-                    && matches!(
-                        self.tokens.get(self.at),
-                        Some(Token {
-                            tok: Tok::Sym("("),
-                            ..
-                        })
-                    ) =>
-            {
+            Tok::Name(name) if name.eq_ignore_ascii_case("bcd") && self.opens_call() => {
                 self.at += 1;
                 self.expr(0)?;
                 match self.tokens.get(self.at) {
@@ -501,16 +503,7 @@ impl Parser<'_> {
                 }
                 self.nodes.push(Node::Bcd);
             }
-            Tok::Name(name)
-                if name.eq_ignore_ascii_case("q16")
-                    && matches!(
-                        self.tokens.get(self.at),
-                        Some(Token {
-                            tok: Tok::Sym("("),
-                            ..
-                        })
-                    ) =>
-            {
+            Tok::Name(name) if name.eq_ignore_ascii_case("q16") && self.opens_call() => {
                 // A number as Q16.16, rounded as the assemblers round it: `q16(1.5)` is 98304.
                 self.at += 1;
                 let mut text = String::new();

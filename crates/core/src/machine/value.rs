@@ -23,7 +23,7 @@ pub enum ValueError {
     #[error("q16({0}) has too many digits (at most 30)")]
     Q16TooLong(String),
     #[error(
-        "q16({0}) is out of Q16.16's range, -32768 to 32767.9999847 (65536 × the value must fit a signed 32-bit register)"
+        "q16({0}) does not fit Q16.16's range, -32768 to 32767.9999847 (65536 × the value must fit a signed 32-bit register)"
     )]
     Q16TooBig(String),
     #[error("bcd({0}) needs 1 to 16 decimal digits, like bcd(1234)")]

@@ -139,3 +139,26 @@ fn the_plot_starts_on_what_the_program_uses() {
     let d = debugger("silverlode", "WRP 20, 1\nEND\n");
     assert_eq!(names(&d), ["R0", "R1", "R6"]);
 }
+
+/// Stepping scan by scan (F8) stops at a data breakpoint inside the scan, as a run does (it
+/// went past, and the hit was never counted).
+#[test]
+fn a_data_breakpoint_stops_a_scan_step_too() {
+    let mut d = counter_with_pulses(14);
+    d.add_breakpoint(Breakpoint::data("V1000", DataTrigger::Equal(0x12)));
+    let mut stopped = None;
+    for _ in 0..100 {
+        d.step_tick();
+        if let Some(Event::Watchpoint { new, .. }) = d.event() {
+            stopped = Some(new.clone());
+            break;
+        }
+    }
+    assert_eq!(stopped.as_deref(), Some("12"));
+    assert_eq!(d.breakpoint_hits(0), 1);
+    assert_eq!(get(d.machine(), "V1000"), 0x12);
+    // The next step goes on from there, past the breakpoint.
+    let at = d.pos();
+    d.step_tick();
+    assert!(d.pos() > at);
+}

@@ -227,6 +227,32 @@ mod tml {
         );
     }
 
+    /// A later `PROD << 15` changes PREG, not the multiply: the breakdown shows PREG as the
+    /// multiply left it and calls nothing an overflow (it mixed the two: "-3 × 1000 = -3000
+    /// exact; << 0 → PREG = -98304000 … the product overflowed").
+    #[test]
+    fn a_later_product_shift_is_not_the_multiplys_overflow() {
+        let m = to_line("long l;\nl = -3;\nl * 1000 << 0;\nPROD << 15;\nEND;\n", 5);
+        let b = last_multiply(&m).expect("a multiply ran");
+        assert_eq!(
+            b.real.as_deref(),
+            Some("-3 × 1000 = -3000 exact; << 0 → PREG = -3000")
+        );
+        assert!(
+            !b.notes.iter().any(|n| n.contains("overflowed")),
+            "{:?}",
+            b.notes
+        );
+        assert!(
+            b.notes
+                .iter()
+                .any(|n| n
+                    == "PREG was changed since (now -98304000): shown as this multiply left it"),
+            "{:?}",
+            b.notes
+        );
+    }
+
     #[test]
     fn an_int_product_has_no_binary_point() {
         let m = to_line("int a;\nint b;\na = -300;\nb = 7;\na * b;\nEND;\n", 6);

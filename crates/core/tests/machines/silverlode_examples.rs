@@ -132,15 +132,28 @@ fn call_ret_sums_squares() {
 /// 120 µs), within half a percent: what a student reads beside the numbers is what they do.
 #[test]
 fn the_examples_moves_are_commented_in_the_units_they_run_at() {
-    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("assets/examples");
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     let tick = 120e-6;
     let mut checked = 0;
-    for entry in std::fs::read_dir(dir).expect("the examples") {
+    // The examples, and the programs the sessions carry (a walk-through kept an old comment).
+    let mut programs = Vec::new();
+    for entry in std::fs::read_dir(root.join("assets/examples")).expect("the examples") {
         let path = entry.expect("an entry").path();
-        if path.extension().is_none_or(|e| e != "qsl") {
-            continue;
+        if path.extension().is_some_and(|e| e == "qsl") {
+            programs.push((
+                path.clone(),
+                std::fs::read_to_string(&path).expect("an example"),
+            ));
         }
-        let text = std::fs::read_to_string(&path).expect("an example");
+    }
+    for entry in std::fs::read_dir(root.join("sessions")).expect("the sessions") {
+        let path = entry.expect("an entry").path();
+        let session = servoscope_core::session::Session::load(&path).expect("a session");
+        if session.dialect == "silverlode" {
+            programs.push((path, session.program));
+        }
+    }
+    for (path, text) in &programs {
         for line in text.lines() {
             let Some((code, comment)) = line.split_once(';') else {
                 continue;

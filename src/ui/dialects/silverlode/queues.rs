@@ -528,8 +528,8 @@ fn ring(
             text_colour,
         );
         // A narrow band has room for the value only (the slot is in its tooltip): the number
-        // over it read as part of the value.
-        if outer - inner >= 28.0 {
+        // over it read as part of the value, and up to a band of 40 points it printed on it.
+        if outer - inner >= 40.0 {
             painter.text(
                 at(mid, outer - 7.0),
                 Align2::CENTER_CENTER,

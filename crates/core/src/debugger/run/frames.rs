@@ -199,7 +199,7 @@ impl Debugger {
     }
 
     /// The run's goal came true (or a breakpoint): stop and say which.
-    fn reached(&mut self, goal: Goal) {
+    pub(super) fn reached(&mut self, goal: Goal) {
         self.goal = None;
         let line = self.machine().pc_line().unwrap_or(0);
         let hit = self.checker.get_mut().hit.take();

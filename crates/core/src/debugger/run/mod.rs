@@ -260,8 +260,21 @@ impl Debugger {
         }
         self.goal = None;
         let next = Pos::at_tick(self.pos().tick + 1);
-        self.engine.forward(next, &StopWhen::default());
-        self.after_stop(Event::Stepped);
+        // A breakpoint met inside the scan stops the step there, as Step over stops inside a
+        // call (a data breakpoint on a counter fired on F5 but never on F8).
+        let on_error = self.break_on_error && !self.machine().error_lamp();
+        self.resume_past_breakpoint = false;
+        let checker = (!self.checker.get_mut().is_empty()).then_some(&self.checker);
+        let stop = StopWhen {
+            checker,
+            skip_first: true,
+            on_error,
+            ..StopWhen::default()
+        };
+        match self.engine.forward(next, &stop) {
+            StopReason::Predicate => self.reached(Goal::Continue),
+            _ => self.after_stop(Event::Stepped),
+        }
     }
 
     /// Run until a breakpoint, the end or a fault (F5).

@@ -48,8 +48,16 @@ pub fn last_multiply(m: &Tml) -> Option<Breakdown> {
     } else {
         mult.product >> n
     };
-    let preg = m.preg_signed();
+    // What the multiply left in PREG (a later `PROD << n` changes PREG, not this multiply).
+    let preg_bits = (shifted as u64) & super::PREG_MASK;
+    let preg = ((preg_bits << 16) as i64) >> 16;
     let mut notes = Vec::new();
+    if m.preg != preg_bits {
+        notes.push(format!(
+            "PREG was changed since (now {}): shown as this multiply left it",
+            m.preg_signed()
+        ));
+    }
     if mult.left && n > 0 {
         // Bits 47−n..0 land in 47..n; bits 47..48−n leave PREG.
         let top = 47u32.saturating_sub(n);
@@ -107,7 +115,7 @@ pub fn last_multiply(m: &Tml) -> Option<Breakdown> {
             },
             BitRow {
                 label: format!("PREG = {preg}"),
-                value: m.preg,
+                value: preg_bits,
                 width: 48,
                 point,
                 keep: Keep::Operand,
