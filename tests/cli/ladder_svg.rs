@@ -3,6 +3,8 @@
 
 use std::process::Command;
 
+use crate::common;
+
 fn servoscope(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_servoscope"))
         .args(args)
@@ -168,4 +170,35 @@ fn the_svg_export_carries_line_operand_and_power() {
     assert_eq!(run.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&run.stderr).contains("no ladder diagram"));
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// #44 item 7: a control character in a comment (a terminal colour code) is shown as its
+/// control picture, so the SVG stays well-formed XML (it wrote a raw ESC, which no XML reader
+/// takes).
+#[test]
+fn a_control_character_in_a_comment_keeps_the_svg_valid() {
+    let program = common::scratch_file("escape.dl205", "STR X0 // \u{1b}[31mred\nOUT Y0\nEND\n");
+    let out = common::scratch_file("escape.svg", "");
+    let _ = std::fs::remove_file(&out);
+    let run = common::servoscope(&[
+        "ladder",
+        program.to_str().expect("utf-8"),
+        "--svg",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let svg = std::fs::read_to_string(&out).expect("written");
+    // XML 1.0's characters: no C0 control but tab, line feed and carriage return.
+    let bad: Vec<char> = svg
+        .chars()
+        .filter(|&c| c < ' ' && !matches!(c, '\t' | '\n' | '\r'))
+        .collect();
+    assert!(bad.is_empty(), "{bad:?}");
+    assert!(svg.contains("␛[31mred"), "the comment, its ESC shown as ␛");
+    let _ = std::fs::remove_file(out);
+    let _ = std::fs::remove_file(program);
 }

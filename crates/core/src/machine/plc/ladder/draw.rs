@@ -27,6 +27,9 @@ const RUNG_GAP: u32 = 26;
 /// Lines of a rung's comment a drawing shows (a file's opening paragraph can be long).
 pub const RUNG_COMMENT_LINES: usize = 3;
 
+/// Text for an SVG (XML 1.0) document: markup escaped, and the characters XML cannot hold at
+/// all (C0 controls but tab and line breaks, U+FFFE, U+FFFF) shown as their control pictures
+/// (ESC as ␛) or U+FFFD, so a comment with a terminal colour code still gives a valid file.
 fn escape(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     for c in s.chars() {
@@ -35,6 +38,11 @@ fn escape(s: &str) -> String {
             '<' => out.push_str("&lt;"),
             '>' => out.push_str("&gt;"),
             '"' => out.push_str("&quot;"),
+            '\t' | '\n' | '\r' => out.push(c),
+            '\u{0}'..='\u{1f}' => {
+                out.push(char::from_u32(0x2400 + c as u32).unwrap_or('\u{fffd}'));
+            }
+            '\u{fffe}' | '\u{ffff}' => out.push('\u{fffd}'),
             c => out.push(c),
         }
     }
