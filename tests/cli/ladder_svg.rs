@@ -180,17 +180,12 @@ fn a_control_character_in_a_comment_keeps_the_svg_valid() {
     let program = common::scratch_file("escape.dl205", "STR X0 // \u{1b}[31mred\nOUT Y0\nEND\n");
     let out = common::scratch_file("escape.svg", "");
     let _ = std::fs::remove_file(&out);
-    let run = common::servoscope(&[
-        "ladder",
+    let (program_path, out_path) = (
         program.to_str().expect("utf-8"),
-        "--svg",
         out.to_str().expect("utf-8"),
-    ]);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
     );
+    let run = servoscope(&["ladder", program_path, "--svg", out_path]);
+    assert!(run.status.success(), "{run:?}");
     let svg = std::fs::read_to_string(&out).expect("written");
     // XML 1.0's characters: no C0 control but tab, line feed and carriage return.
     let bad: Vec<char> = svg
