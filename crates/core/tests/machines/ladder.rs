@@ -386,3 +386,92 @@ fn directsoft_element_documentation_names_the_elements() {
             .expect("compiles");
     assert_eq!(expr.eval(engine.machine()), 1);
 }
+
+/// `f` on a thread of its own, given `seconds` before the test fails as a hang (a budget that
+/// ends the test: these rungs took 24 s, or 4.3 GB and an abort, before).
+fn within<T: Send + 'static>(seconds: u64, f: impl FnOnce() -> T + Send + 'static) -> T {
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(f());
+    });
+    rx.recv_timeout(std::time::Duration::from_secs(seconds))
+        .expect("finished within its time budget")
+}
+
+#[test]
+fn a_rung_too_long_to_draw_runs_and_shows_a_note_in_its_place() {
+    // 200,000 series contacts (DL205) and 200,000 boxes on one rung (OpenNet), each followed
+    // by an ordinary rung that still draws as usual.
+    let contacts = format!(
+        "STR X0\n{}OUT Y0\nSTR X2\nOUT Y1\nEND\n",
+        "AND X1\n".repeat(200_000)
+    );
+    let boxes = format!(
+        "LOD I0\n{}LOD I1\nOUT Q1\nEND\n",
+        "ADD(W) D0 1 D1\n".repeat(200_000)
+    );
+    for (dialect, source, elements, next_line) in [
+        ("dl205", contacts, 200_002, 200_003),
+        ("opennet", boxes, 200_001, 200_002),
+    ] {
+        let (dialect, source) = (dialect.to_string(), source);
+        let (ladder, svg) = within(120, move || {
+            let d = by_name(&dialect).expect("registered");
+            let engine = d
+                .open_text(&source, &d.default_settings())
+                .unwrap_or_else(|e| panic!("{dialect} assembles: {:?}", e.first()));
+            let mut run = engine.restarted(Vec::new(), Vec::new());
+            run.run_headless(&[], 1);
+            assert_eq!(run.machine().ticks(), 1, "{dialect}: a scan ran");
+            let m = run.machine();
+            let ladder =
+                servoscope_core::machine::plc::ladder::with_comments(m, &source, d.classify)
+                    .expect("a diagram");
+            let svg = servoscope_core::machine::plc::ladder::svg_of(m, &ladder, "long");
+            (ladder, svg)
+        });
+        let long = &ladder.rungs[0];
+        assert_eq!(long.elements.len(), elements);
+        let note = long.oversized.as_deref().expect("too large to draw");
+        assert!(note.contains("lines 1–"), "{note}");
+        assert!(note.contains("at most 512 columns and 1024 rows"), "{note}");
+        assert_eq!(long.rows, 1);
+        // The next rung is laid out as ever, its coil in the last column of the drawn rungs.
+        let (rung, coil) = at_line(&ladder, next_line + 1);
+        assert!(rung.oversized.is_none());
+        assert_eq!(coil.col, ladder.last_col);
+        assert!(
+            ladder.last_col < 10,
+            "the long rung does not widen the others"
+        );
+        assert!(svg.contains("class=\"oversized\""));
+        assert!(svg.len() < 1 << 20, "{} bytes", svg.len());
+    }
+}
+
+#[test]
+fn the_widest_and_tallest_rungs_that_fit_are_drawn() {
+    // 510 contacts and a coil: 512 columns, the most drawn; one more contact is too many.
+    for (contacts, drawn) in [(510, true), (511, false)] {
+        let source = format!("STR X0\n{}OUT Y0\nEND\n", "AND X1\n".repeat(contacts));
+        let ladder = ladder_of("dl205", &source);
+        assert_eq!(
+            ladder.rungs[0].oversized.is_none(),
+            drawn,
+            "{contacts} contacts"
+        );
+        if drawn {
+            assert_eq!(usize::from(ladder.last_col) + 1, 512);
+        }
+    }
+    // 1024 coils on one condition: 1024 rows; 1025 are too many.
+    for (coils, drawn) in [(1024, true), (1025, false)] {
+        let outs: String = (0..coils).map(|k| format!("OUT C{k:o}\n")).collect();
+        let source = format!("STR X0\n{outs}END\n");
+        let ladder = ladder_of("dl205", &source);
+        assert_eq!(ladder.rungs[0].oversized.is_none(), drawn, "{coils} coils");
+        if drawn {
+            assert_eq!(ladder.rungs[0].rows, 1024);
+        }
+    }
+}

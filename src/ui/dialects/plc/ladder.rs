@@ -293,6 +293,23 @@ impl RungDrawing<'_> {
                 self.ink.comment,
             );
         }
+        // Too large to draw: its note, which names its lines, in its place.
+        if let Some(why) = &rung.oversized {
+            let shown = painter.text(
+                pos2(rail_x, top + g.at(4.0)),
+                Align2::LEFT_TOP,
+                why,
+                g.mono(11.0),
+                self.ink.comment,
+            );
+            ui.interact(
+                shown,
+                ui.scope_id().with(("oversized", self.index)),
+                egui::Sense::hover(),
+            )
+            .widget_info(|| egui::WidgetInfo::labeled(egui::Role::Label, true, why.as_str()));
+            return;
+        }
         let note = match self.power.state {
             RungState::Done => None,
             RungState::NotYet => Some("not yet\nthis scan"),

@@ -7,8 +7,9 @@ use super::program::{Bit, Edge, Instr, Op, Test, bit_name, box_shape};
 use crate::machine::plc::ladder::{CoilKind, EdgeKind, Element, Ladder, Step, Symbol};
 
 /// The ladder diagram of an assembled program.
+/// The program's rungs, wired, not laid out (see [`Ladder::lay_out`]).
 pub fn build(instrs: &[Instr]) -> Ladder {
-    Ladder::build(instrs.iter().enumerate().map(|(i, ins)| step(i, ins)))
+    Ladder::wire(instrs.iter().enumerate().map(|(i, ins)| step(i, ins)))
 }
 
 fn operands(ins: &Instr) -> Vec<&str> {

@@ -436,8 +436,10 @@ pub struct Program {
     pub orout_bits: Vec<Bit>,
     /// Every timer and counter box, in program order.
     pub boxes: Vec<BoxDecl>,
-    /// The program as a ladder diagram.
+    /// The program as a ladder diagram, wired but not laid out.
     pub ladder: std::sync::Arc<crate::machine::plc::ladder::Ladder>,
+    /// The same laid out, once something draws it (a long rung costs nothing until then).
+    pub diagram: crate::machine::plc::ladder::LaidOut,
     /// DirectSOFT's element documentation from a `#BEGIN ELEMENT_DOC` block.
     pub docs: Vec<ElementDoc>,
 }

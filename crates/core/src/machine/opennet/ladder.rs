@@ -8,8 +8,9 @@ use super::program::{Bit, CounterKind, Instr, Op, Word, point_name};
 use crate::machine::plc::ladder::{CoilKind, EdgeKind, Element, Ladder, Step, Symbol};
 
 /// The ladder diagram of an assembled program.
+/// The program's rungs, wired, not laid out (see [`Ladder::lay_out`]).
 pub fn build(instrs: &[Instr]) -> Ladder {
-    Ladder::build(instrs.iter().enumerate().map(|(i, ins)| step(i, ins)))
+    Ladder::wire(instrs.iter().enumerate().map(|(i, ins)| step(i, ins)))
 }
 
 pub fn bit_name(b: Bit) -> String {

@@ -444,6 +444,8 @@ pub struct Program {
     pub flat: Vec<super::fast::Flat>,
     /// Every location a scan may write.
     pub scan_writes: crate::machine::WriteSet,
-    /// The program as a ladder diagram.
+    /// The program as a ladder diagram, wired but not laid out.
     pub ladder: std::sync::Arc<crate::machine::plc::ladder::Ladder>,
+    /// The same laid out, once something draws it (a long rung costs nothing until then).
+    pub diagram: crate::machine::plc::ladder::LaidOut,
 }

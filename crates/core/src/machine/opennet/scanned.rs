@@ -23,7 +23,7 @@ impl ScannedPlc for OpenNet {
         self.program.scan_writes
     }
     fn diagram(&self) -> std::sync::Arc<crate::machine::plc::ladder::Ladder> {
-        self.program.ladder.clone()
+        self.program.diagram.of(&self.program.ladder)
     }
     fn conducts(&self, index: usize) -> bool {
         OpenNet::conducts(self, index)

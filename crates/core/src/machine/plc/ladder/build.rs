@@ -177,19 +177,39 @@ impl Builder {
                 *n = number[root];
             }
         }
-        let mut rung = Rung {
+        rungs.push(Rung {
             elements,
             nodes: next,
             ..Default::default()
-        };
-        layout(&mut rung);
-        rungs.push(rung);
+        });
     }
 }
 
 impl Ladder {
-    /// The diagram of a program given as boolean-stack steps in program order.
+    /// The diagram of a program given as boolean-stack steps in program order, laid out.
     pub fn build(steps: impl IntoIterator<Item = Step>) -> Ladder {
+        let mut ladder = Ladder::wire(steps);
+        ladder.lay_out();
+        ladder
+    }
+
+    /// Lay every rung out in cells (the wiring is there already): done when something draws
+    /// the diagram, not when a program is assembled.
+    pub fn lay_out(&mut self) {
+        for rung in &mut self.rungs {
+            layout(rung);
+        }
+        // A rung too large to draw does not push every other rung's coils to the right.
+        self.last_col = (self.rungs.iter())
+            .filter(|r| r.oversized.is_none())
+            .map(|r| r.last_col)
+            .max()
+            .unwrap_or(0);
+    }
+
+    /// The rungs and how their elements connect, not laid out yet: what the assemblers keep
+    /// (duplicate coils and the I/O board need no more).
+    pub fn wire(steps: impl IntoIterator<Item = Step>) -> Ladder {
         let mut rungs = Vec::new();
         let mut b = Builder::new();
         for step in steps {
@@ -231,7 +251,6 @@ impl Ladder {
             }
         }
         b.finish(&mut rungs);
-        let last_col = rungs.iter().map(|r| r.last_col).max().unwrap_or(0);
-        Ladder { rungs, last_col }
+        Ladder { rungs, last_col: 0 }
     }
 }

@@ -13,6 +13,10 @@ pub fn value_text(m: &dyn crate::machine::MachineView, name: &str) -> String {
     }
 }
 
+/// The comment every ladder SVG carries after its `<svg>` tag: how a later export knows the
+/// file is ours to replace (`crate::output`).
+pub const SVG_MARK: &str = "<!-- servoscope ladder diagram -->";
+
 /// The whole diagram of `m` as SVG with its power flow now.
 pub fn svg_of(m: &dyn crate::machine::MachineView, ladder: &Ladder, title: &str) -> String {
     let power = power_of(ladder, m);
@@ -118,6 +122,17 @@ pub fn svg(
                 y + 12 + i as u32 * 14,
                 escape(&fit(line, (width as usize - left as usize) / 6))
             );
+        }
+        if let Some(why) = &rung.oversized {
+            let _ = writeln!(
+                body,
+                r##"<text class="oversized" x="{left}" y="{}" fill="#aa5500">{}</text>"##,
+                top + CELL_H / 2,
+                escape(why)
+            );
+            body.push_str("</g>\n");
+            y = top + height + RUNG_GAP;
+            continue;
         }
         let on = |node: NodeId| pw.is_some_and(|p| p.node.get(node as usize) == Some(&true));
         let wire = |body: &mut String, x1: u32, y1: u32, x2: u32, y2: u32, lit: bool| {
@@ -336,6 +351,8 @@ pub fn svg(
         out,
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{y}" viewBox="0 0 {width} {y}" font-family="sans-serif" font-size="11">"#
     );
+    out.push_str(SVG_MARK);
+    out.push('\n');
     let _ = writeln!(
         out,
         r#"<text x="{}" y="24" font-size="14">{}</text>"#,

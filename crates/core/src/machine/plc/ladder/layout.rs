@@ -1,47 +1,66 @@
 //! The layout of a wired rung in grid cells: each node's column, each element's row, and
 //! the horizontal fillers and vertical wires between them.
 
-use super::{Filler, NodeId, RAIL, Rung, Vertical};
+use super::{Filler, MAX_RUNG_COLUMNS, MAX_RUNG_ROWS, NodeId, RAIL, Rung, Vertical};
 
-/// Columns, rows, fillers and verticals of a wired rung.
+/// Cells the row search may look at in one rung: far past any rung that fits the bounds as
+/// people draw them, so only a pathological shape gives up.
+const CELL_VISITS: u64 = 20_000_000;
+
+/// Columns, rows, fillers and verticals of a wired rung. A rung wider than
+/// [`MAX_RUNG_COLUMNS`] or taller than [`MAX_RUNG_ROWS`] is not laid out: it gets its
+/// `oversized` note, which the panel and the SVG draw instead, and the work stays linear in
+/// its elements (a rung of 200,000 series contacts used to take gigabytes).
 pub(super) fn layout(rung: &mut Rung) {
     let n = rung.nodes as usize;
-    // Longest path from the rail; the graph is acyclic (every element ends at a newer node),
-    // so as many passes as elements settle it.
-    let mut col = vec![0u16; n];
-    for _ in 0..=rung.elements.len() {
-        let mut changed = false;
-        for e in &rung.elements {
-            if let (Some(to), Some(&from)) = (e.to, e.from.first()) {
-                let want = col[from as usize].saturating_add(1);
-                if col[to as usize] < want {
-                    col[to as usize] = want;
-                    changed = true;
-                }
-            }
-        }
-        if !changed {
-            break;
+    // Longest path from the rail. Every element ends at a newer node, so taking elements in
+    // the order of their output node settles each node's column before it is read.
+    let mut col = vec![0u32; n];
+    let mut order: Vec<usize> = (0..rung.elements.len()).collect();
+    order.sort_by_key(|&i| rung.elements[i].to);
+    for &i in &order {
+        let e = &rung.elements[i];
+        if let (Some(to), Some(&from)) = (e.to, e.from.first())
+            && let (Some(&f), Some(&t)) = (col.get(from as usize), col.get(to as usize))
+        {
+            col[to as usize] = t.max(f.saturating_add(1));
         }
     }
     let last_col = rung
         .elements
         .iter()
         .filter(|e| e.to.is_none())
-        .flat_map(|e| e.from.iter().map(|&f| col[f as usize]))
+        .flat_map(|e| {
+            e.from
+                .iter()
+                .map(|&f| col.get(f as usize).copied().unwrap_or(0))
+        })
         .chain(col.iter().copied())
         .max()
         .unwrap_or(0);
+    // Coils and boxes each take rows of their own in the last column.
+    let end_rows: usize = (rung.elements.iter())
+        .filter(|e| e.to.is_none())
+        .map(|e| e.from.len().max(1))
+        .sum();
+    if last_col >= MAX_RUNG_COLUMNS as u32 || end_rows > MAX_RUNG_ROWS {
+        return oversized(rung, last_col as usize + 1, end_rows);
+    }
+    let col: Vec<u16> = col.into_iter().map(|c| c as u16).collect();
+    let last_col = last_col as u16;
     // Rows: cells taken, per row.
     let mut taken: Vec<Vec<bool>> = Vec::new();
     let width = usize::from(last_col) + 1;
     let mut node_row: Vec<Option<u16>> = vec![None; n];
     node_row[RAIL as usize] = Some(0);
+    let visits = std::cell::Cell::new(0u64);
     let fits = |taken: &Vec<Vec<bool>>, row: usize, a: usize, b: usize| {
+        visits.set(visits.get() + (b - a) as u64);
         taken.get(row).is_none_or(|r| r[a..b].iter().all(|t| !t))
     };
     let mut fillers = Vec::new();
-    for e in &mut rung.elements {
+    for k in 0..rung.elements.len() {
+        let e = &mut rung.elements[k];
         let first = e.from.first().copied().unwrap_or(RAIL);
         let a = usize::from(col[first as usize]);
         let (b, height) = match e.to {
@@ -65,6 +84,13 @@ pub(super) fn layout(rung: &mut Rung) {
         let mut row = want;
         while !(0..height).all(|k| fits(&taken, row + k, a, b)) {
             row += 1;
+            if row + height > MAX_RUNG_ROWS || visits.get() > CELL_VISITS {
+                let rows = row + height;
+                return oversized(rung, width, rows);
+            }
+        }
+        if row + height > MAX_RUNG_ROWS {
+            return oversized(rung, width, row + height);
         }
         while taken.len() < row + height {
             taken.push(vec![false; width]);
@@ -128,4 +154,31 @@ pub(super) fn layout(rung: &mut Rung) {
     rung.last_col = last_col;
     rung.fillers = fillers;
     rung.verticals = verticals;
+    rung.oversized = None;
+}
+
+/// A rung too large to draw: one row, no wires, and the note saying why.
+fn oversized(rung: &mut Rung, columns: usize, rows: usize) {
+    let (first, last) = (
+        rung.first_line(),
+        rung.elements.iter().map(|e| e.line).max().unwrap_or(0),
+    );
+    rung.oversized = Some(format!(
+        "Rung of lines {first}–{last} not drawn: {} elements need {} columns and {} rows; the ladder draws rungs of at most {MAX_RUNG_COLUMNS} columns and {MAX_RUNG_ROWS} rows (the program runs as written)",
+        rung.elements.len(),
+        columns,
+        rows.max(1),
+    ));
+    for e in &mut rung.elements {
+        e.col = 0;
+        e.row = 0;
+        e.height = 1;
+        e.from_col = 0;
+        e.leg_rows = vec![0; e.from.len().max(1)];
+    }
+    rung.rows = 1;
+    rung.node_col = vec![0; rung.nodes as usize];
+    rung.last_col = 0;
+    rung.fillers = Vec::new();
+    rung.verticals = Vec::new();
 }

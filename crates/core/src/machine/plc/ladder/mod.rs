@@ -23,7 +23,7 @@ mod power;
 mod tests;
 
 pub use comments::{comment_of, with_comments};
-pub use draw::{RUNG_COMMENT_LINES, coil_letters, fit, svg, svg_of, value_text};
+pub use draw::{RUNG_COMMENT_LINES, SVG_MARK, coil_letters, fit, svg, svg_of, value_text};
 pub use power::{RungPower, RungState, power_of, rung_state};
 
 /// A node of a rung; [`RAIL`] is the left power rail.
@@ -186,7 +186,42 @@ pub struct Rung {
     pub fillers: Vec<Filler>,
     /// The comment lines right above the rung's first instruction.
     pub comment: String,
+    /// Why the rung is not drawn (wider or taller than the ladder draws): what the panel and
+    /// the SVG show in its place.
+    pub oversized: Option<String>,
 }
+
+/// A program's diagram laid out on first use: assembling wires the rungs, and only what draws
+/// them (the panel, the SVG) pays for the layout. Two programs compare equal whether or not
+/// either was drawn yet.
+#[derive(Clone, Debug, Default)]
+pub struct LaidOut(std::sync::OnceLock<std::sync::Arc<Ladder>>);
+
+impl LaidOut {
+    /// `wired` laid out, the first time; the same diagram after that.
+    pub fn of(&self, wired: &Ladder) -> std::sync::Arc<Ladder> {
+        self.0
+            .get_or_init(|| {
+                let mut ladder = wired.clone();
+                ladder.lay_out();
+                std::sync::Arc::new(ladder)
+            })
+            .clone()
+    }
+}
+
+impl PartialEq for LaidOut {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl Eq for LaidOut {}
+
+/// The widest rung the ladder draws, in cells (about 56,000 pixels at 110 a cell).
+pub const MAX_RUNG_COLUMNS: usize = 512;
+/// The tallest rung the ladder draws, in rows.
+pub const MAX_RUNG_ROWS: usize = 1024;
 
 impl Rung {
     /// The first and last instruction of the rung.
