@@ -8,6 +8,8 @@ use clap::{Parser, Subcommand};
 
 use servoscope_core::machine::Diagnostic;
 use servoscope_core::machine::diagnostics::printable;
+use servoscope_core::machine::project::IncludeFolders;
+use servoscope_core::output::{self, Output, Refusal};
 use servoscope_core::registry::{self, Dialect, Settings};
 use servoscope_core::runner::{self, Report};
 use servoscope_core::session::{Recorded, Session, is_session_path};
@@ -42,7 +44,8 @@ enum Command {
     Ladder(LadderArgs),
     /// Grade a lesson: run PROGRAM (or the lesson's own program) from tick 0 with the
     /// lesson's settings and edits, then evaluate every check of every step (exit 0 all
-    /// pass, 1 any fails, 2 the program does not assemble or a file cannot be read).
+    /// pass, 1 any fails, 2 the program does not assemble or a file cannot be read, 3 the
+    /// time budget ran out).
     Check(CheckArgs),
 }
 
@@ -60,6 +63,28 @@ struct CheckArgs {
     /// status "not assembled" with every diagnostic).
     #[arg(long)]
     json: bool,
+    /// Stop grading after this many seconds of running (the report says so; exit 3).
+    #[arg(long, value_name = "SECONDS", default_value_t = DEFAULT_CHECK_TIMEOUT_S)]
+    timeout: f64,
+    #[command(flatten)]
+    includes: IncludeArgs,
+}
+
+/// Where included files may be read from.
+#[derive(clap::Args)]
+struct IncludeArgs {
+    /// Also read `#include`d files from this folder (and below); without it, only from the
+    /// program's own folder and its subfolders. Repeatable.
+    #[arg(long = "include-dir", value_name = "DIR")]
+    include_dirs: Vec<PathBuf>,
+}
+
+impl IncludeArgs {
+    fn folders(&self) -> IncludeFolders {
+        IncludeFolders {
+            allowed: self.include_dirs.clone(),
+        }
+    }
 }
 
 #[derive(clap::Args)]
@@ -81,9 +106,15 @@ struct LadderArgs {
     /// A setting of the dialect's model, e.g. scan_ms=20. Repeatable.
     #[arg(long = "setting", value_name = "KEY=VALUE")]
     settings: Vec<String>,
-    /// Where to write the SVG.
+    /// Where to write the SVG (never over the program; over a file that is not a ladder
+    /// diagram servoscope drew only with --overwrite).
     #[arg(long, value_name = "OUT.svg")]
     svg: PathBuf,
+    /// Let --svg replace a file that is not a ladder diagram servoscope drew.
+    #[arg(long)]
+    overwrite: bool,
+    #[command(flatten)]
+    includes: IncludeArgs,
 }
 
 #[derive(clap::Args)]
@@ -113,7 +144,7 @@ struct RunArgs {
     /// When the run stops, save a session that reproduces this exact state.
     #[arg(long, value_name = "OUT.ron")]
     save_session: Option<PathBuf>,
-    /// Let --save-session replace a file that is not a session.
+    /// Let --save-session and --trace replace a file of another kind (never the program).
     #[arg(long)]
     overwrite: bool,
     /// Force a bit (PLC inputs, outputs, relays) from a scan on, e.g. Y0=1@100 or X1=0 (from
@@ -128,10 +159,15 @@ struct RunArgs {
     /// (exit code 4; the report says where).
     #[arg(long = "break", value_name = "EXPR")]
     break_when: Option<String>,
+    #[command(flatten)]
+    includes: IncludeArgs,
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return argument_error(&e),
+    };
     match cli.command {
         Some(Command::Run(args)) => ExitCode::from(match run(&args) {
             Ok(code) => code,
@@ -182,6 +218,18 @@ fn open_window(
     }
 }
 
+impl Start {
+    /// The files this start was read from (`file`, and the program's files when `file` is a
+    /// program): what no output may replace.
+    fn inputs(&self, file: &Path) -> Vec<output::Input> {
+        if self.session.is_some() {
+            vec![output::Input::new(file, "the session")]
+        } else {
+            output::program_inputs(file, &self.project)
+        }
+    }
+}
+
 /// What a run starts from: the program, its dialect and settings, and the recorded events.
 struct Start {
     dialect: &'static Dialect,
@@ -194,7 +242,11 @@ struct Start {
     session: Option<Session>,
 }
 
-fn read_start(file: &Path, dialect: Option<&str>) -> Result<Start, String> {
+fn read_start(
+    file: &Path,
+    dialect: Option<&str>,
+    folders: &IncludeFolders,
+) -> Result<Start, String> {
     if is_session_path(file) {
         let session = Session::load(file).map_err(|e| e.to_string())?;
         if let Some(d) = dialect
@@ -215,7 +267,9 @@ fn read_start(file: &Path, dialect: Option<&str>) -> Result<Start, String> {
         });
     }
     let dialect = registry::choose(file, dialect).map_err(|e| e.to_string())?;
-    let project = dialect.load(file).map_err(|e| e.to_string())?;
+    let project = dialect
+        .load_with(file, folders)
+        .map_err(|e| e.to_string())?;
     let short = project.top_name().to_string();
     Ok(Start {
         dialect,
@@ -241,9 +295,18 @@ fn run(args: &RunArgs) -> Result<u8, String> {
         forces,
         trace,
         break_when,
+        includes,
     } = args;
     let (dialect, max_ticks, json) = (dialect.as_deref(), *max_ticks, *json);
-    let start = read_start(file, dialect)?;
+    let start = read_start(file, dialect, &includes.folders())?;
+    let read_files = start.inputs(file);
+    if let Some(path) = trace {
+        output::may_write(path, Output::Trace, &read_files, *overwrite).map_err(refused)?;
+    }
+    if let Some(path) = save_session {
+        // The session rule itself (a session, or --overwrite) is the session's own save.
+        output::may_write(path, Output::Session, &read_files, true).map_err(refused)?;
+    }
     let name = file.display().to_string();
     if start.session.is_some() && !(inputs.is_empty() && sets.is_empty() && forces.is_empty()) {
         return Err(
@@ -308,23 +371,27 @@ fn run(args: &RunArgs) -> Result<u8, String> {
             None,
         )
     } else {
-        let mut trace_file = match trace {
-            Some(path) => Some(std::io::BufWriter::new(
-                std::fs::File::create(path)
-                    .map_err(|e| format!("cannot write {}: {e}", path.display()))?,
-            )),
-            None => None,
+        let run_probed = |trace: Option<&mut dyn std::io::Write>| {
+            let probe = runner::Probe { trace, until };
+            runner::run_engine_probed(engine.as_ref(), &events, max_ticks, &start.project, probe)
         };
-        let probe = runner::Probe {
-            trace: trace_file.as_mut().map(|w| w as &mut dyn std::io::Write),
-            until,
-        };
-        let (done, broke, error) =
-            runner::run_engine_probed(engine.as_ref(), &events, max_ticks, &start.project, probe);
-        if let (Some(e), Some(path)) = (error, trace) {
-            return Err(format!("cannot write {}: {e}", path.display()));
+        match trace {
+            // Written atomically: a failed run or write leaves whatever was there before.
+            Some(path) => {
+                let mut ran = None;
+                servoscope_core::atomic::write_atomically(path, |w| {
+                    let (done, broke, error) = run_probed(Some(w));
+                    ran = Some((done, broke));
+                    error.map_or(Ok(()), Err)
+                })
+                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+                ran.ok_or_else(|| format!("cannot write {}", path.display()))?
+            }
+            None => {
+                let (done, broke, _) = run_probed(None);
+                (done, broke)
+            }
         }
-        (done, broke)
     };
     let report = Report {
         dialect: start.dialect,
@@ -401,6 +468,14 @@ fn open_engine(
     }
 }
 
+/// Why an output file was not written, with what the user can do about it.
+fn refused(e: Refusal) -> String {
+    match e {
+        Refusal::NotOurs { .. } => format!("{e}; pass --overwrite to replace it"),
+        other => other.to_string(),
+    }
+}
+
 /// Why nothing ran, for the exit with code 2.
 fn nothing_run(name: &str, diagnostics: &[Diagnostic]) -> String {
     format!("{name}: {} error(s), nothing run", diagnostics.len())
@@ -414,8 +489,19 @@ fn print_json(value: impl std::fmt::Display) {
 
 /// `servoscope ladder`: the diagram with its power flow after the scans asked for, as SVG.
 fn ladder(args: &LadderArgs) -> Result<(), String> {
-    let start = read_start(&args.file, args.dialect.as_deref())?;
+    let start = read_start(
+        &args.file,
+        args.dialect.as_deref(),
+        &args.includes.folders(),
+    )?;
     let name = args.file.display().to_string();
+    output::may_write(
+        &args.svg,
+        Output::LadderSvg,
+        &start.inputs(&args.file),
+        args.overwrite,
+    )
+    .map_err(refused)?;
     let mut settings = start.settings.clone();
     for text in &args.settings {
         let (key, value) = start.dialect.parse_setting(text)?;
@@ -459,7 +545,27 @@ fn ladder(args: &LadderArgs) -> Result<(), String> {
 /// `servoscope check`: run the program as the lesson says and grade it by the lesson's checks.
 fn check(args: &CheckArgs) -> Result<u8, String> {
     let lesson_name = args.lesson.display().to_string();
+    if let Some(asked) = args.max_ticks
+        && asked > servoscope_core::lesson::MAX_LESSON_TICKS
+    {
+        return Err(format!(
+            "--max-ticks {asked}: servoscope grades at most {} ticks",
+            servoscope_core::lesson::MAX_LESSON_TICKS
+        ));
+    }
+    let budget = std::time::Duration::try_from_secs_f64(args.timeout)
+        .ok()
+        .filter(|d| !d.is_zero())
+        .ok_or_else(|| {
+            format!(
+                "--timeout {}: give a number of seconds above 0",
+                args.timeout
+            )
+        })?;
     let session = Session::load(&args.lesson).map_err(|e| e.to_string())?;
+    for warning in &session.warnings {
+        say(&format!("servoscope: {lesson_name}: {warning}"));
+    }
     let Some(lesson) = session.lesson.clone() else {
         return Err(format!(
             "{lesson_name} is a session without a lesson section (lesson: Some((title: …, steps: […])))"
@@ -478,7 +584,9 @@ fn check(args: &CheckArgs) -> Result<u8, String> {
                     dialect.display_name
                 ));
             }
-            let project = dialect.load(path).map_err(|e| e.to_string())?;
+            let project = dialect
+                .load_with(path, &args.includes.folders())
+                .map_err(|e| e.to_string())?;
             (path.display().to_string(), project)
         }
         None => (session.program_name.clone(), session.project()),
@@ -507,19 +615,26 @@ fn check(args: &CheckArgs) -> Result<u8, String> {
         nothing_run(&name, &diagnostics)
     })?;
     let max_ticks = servoscope_core::lesson::grading_ticks(&lesson, args.max_ticks, dialect);
-    let (done, outcomes) = servoscope_core::lesson::grading_run(
+    let graded = servoscope_core::lesson::grading_run(
         engine.as_ref(),
         &session,
         &lesson,
         max_ticks,
         &lesson_name,
+        budget,
     )
     .map_err(|e| e.to_string())?;
+    let (done, outcomes) = (graded.run, graded.outcomes);
     let report = Report {
         dialect,
         machine: done.machine(),
         project: Some(&start.project),
         broke: None,
+    };
+    let status = if graded.finished {
+        report.status().to_string()
+    } else {
+        "timed out".to_string()
     };
     let unit = if done.machine().is_plc() {
         "scan(s)"
@@ -529,25 +644,48 @@ fn check(args: &CheckArgs) -> Result<u8, String> {
     let text = if args.json {
         let run = serde_json::json!({
             "program": name,
-            "status": report.status(),
+            "status": status,
             "ticks": done.machine().ticks(),
         });
         servoscope_core::lesson::report_json(&lesson.title, &outcomes, run) + "\n"
     } else {
-        let run = format!(
-            "{name}: {} after {} {unit}",
-            report.status(),
-            done.machine().ticks()
-        );
+        let run = format!("{name}: {status} after {} {unit}", done.machine().ticks());
         servoscope_core::lesson::report_text(&lesson.title, &outcomes, &run)
     };
     let mut out = std::io::stdout().lock();
     match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) if !graded.finished => Ok(3),
         Ok(()) => Ok(u8::from(outcomes.iter().any(|o| !o.pass))),
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(2),
         Err(e) => Err(format!("cannot write the report to standard output: {e}")),
     }
 }
+
+/// What clap found instead of a command: help, the version, or a mistake. With `--json` among
+/// the arguments, help and the version are one JSON object on stdout too, as `--json`
+/// promises; without it, clap's own text.
+fn argument_error(e: &clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    let json = std::env::args_os()
+        .skip(1)
+        .take_while(|a| a != "--")
+        .any(|a| a == "--json");
+    let shown = matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion);
+    if json && shown {
+        let value = if e.kind() == ErrorKind::DisplayVersion {
+            serde_json::json!({ "version": env!("CARGO_PKG_VERSION") })
+        } else {
+            serde_json::json!({ "help": e.render().to_string() })
+        };
+        print_json(value);
+        return ExitCode::SUCCESS;
+    }
+    let _ = e.print();
+    ExitCode::from(if e.use_stderr() { 2 } else { 0 })
+}
+
+/// `check --timeout`'s default, in seconds.
+const DEFAULT_CHECK_TIMEOUT_S: f64 = servoscope_core::lesson::DEFAULT_GRADING_SECONDS;
 
 /// Diagnostics printed at most; the rest are counted.
 const MAX_DIAGNOSTICS_SHOWN: usize = 100;

@@ -24,7 +24,7 @@ impl ServoscopeApp {
                 *d.file_text_mut(file) = text;
                 // An `#include` typed in: its file is read from beside the top file.
                 if let Some(dir) = self.path.as_ref().and_then(|p| p.parent()) {
-                    d.add_new_includes(dir);
+                    d.add_new_includes(dir, &self.prefs.include_folders());
                 }
             }
             Command::ShowAddresses(shown) => self.code.addresses = shown,
@@ -50,6 +50,12 @@ impl ServoscopeApp {
                 self.save_session(path, true);
             }
             Command::ExportDialog => self.files.export.start(ctx),
+            Command::ExportCsv(path)
+                if !self.may_export(
+                    &path,
+                    servoscope_core::output::Output::PlotCsv,
+                    files::Purpose::ExportCsv,
+                ) => {}
             Command::ExportCsv(path) => match self.debugger.export_trace_csv(&path) {
                 Ok(rows) => {
                     self.files.export.close();
@@ -159,6 +165,12 @@ impl ServoscopeApp {
                 self.files.save.start(ctx);
             }
             Command::ExportLogDialog => self.files.export_log.start(ctx),
+            Command::ExportLog(path)
+                if !self.may_export(
+                    &path,
+                    servoscope_core::output::Output::LogCsv,
+                    files::Purpose::ExportLog,
+                ) => {}
             Command::ExportLog(path) => {
                 let rows = self.log.log.rows.len();
                 match servoscope_core::atomic::write_atomically(&path, |w| {
@@ -176,6 +188,41 @@ impl ServoscopeApp {
                 }
             }
             Command::OpenSettings => self.settings.open = true,
+            Command::OpenIncludeFolders => self.include_folders.open = true,
+            Command::AllowIncludeFolder(folder) => {
+                let folder = std::path::absolute(&folder).unwrap_or(folder);
+                if !folder.is_dir() {
+                    self.notice = Some(format!("{} is not a folder", folder.display()));
+                } else if !self.prefs.include_folders.contains(&folder) {
+                    self.prefs.include_folders.push(folder);
+                    // Includes refused before are read now, as they are on disk; a program
+                    // that could not assemble without them assembles.
+                    if let Some(dir) = self.path.clone().as_ref().and_then(|p| p.parent()) {
+                        let folders = self.prefs.include_folders();
+                        let was_dirty = self.is_dirty();
+                        if self.debugger.add_new_includes(dir, &folders) > 0 {
+                            if let Some(saved) = self.file_text.as_mut() {
+                                let files = &self.debugger.project().files;
+                                saved.extend(
+                                    files[saved.len().min(files.len())..]
+                                        .iter()
+                                        .map(|f| f.text.clone()),
+                                );
+                            }
+                            if self.debugger.has_errors() {
+                                self.debugger.assemble();
+                            }
+                            // Read from disk, nothing the user did: nothing to save.
+                            if !was_dirty {
+                                self.mark_saved();
+                            }
+                        }
+                    }
+                }
+            }
+            Command::ForbidIncludeFolder(folder) => {
+                self.prefs.include_folders.retain(|f| *f != folder);
+            }
             Command::SetSettings(settings) => {
                 self.debugger.set_settings(&settings);
                 self.settings.draft = None;

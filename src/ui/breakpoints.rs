@@ -166,6 +166,7 @@ fn row(ui: &mut egui::Ui, debugger: &Debugger, i: usize, b: &Breakpoint, out: &m
 fn text_field(ui: &mut egui::Ui, text: &mut String, hint: &str, name: String, width: f32) {
     ui.add(
         egui::TextEdit::singleline(text)
+            .char_limit(servoscope_core::session::limits::TEXT)
             .hint_text(hint)
             .desired_width(width),
     )
@@ -182,6 +183,7 @@ fn data_form(
         ui.label("Break when");
         let field = ui.add(
             egui::TextEdit::singleline(&mut view.location)
+                .char_limit(servoscope_core::session::limits::TEXT)
                 .hint_text(debugger.dialect().vocabulary.location_hint)
                 .desired_width(80.0),
         );
@@ -202,6 +204,7 @@ fn data_form(
         if view.trigger == 2 {
             ui.add(
                 egui::TextEdit::singleline(&mut view.equals)
+                    .char_limit(servoscope_core::session::limits::TEXT)
                     .hint_text("value")
                     .desired_width(70.0),
             )

@@ -42,6 +42,11 @@ pub enum Command {
     NewProgram(&'static str),
     SetDark(bool),
     OpenSettings,
+    /// View → Include folders…
+    OpenIncludeFolders,
+    /// Let included files be read from this folder too (kept in the preferences).
+    AllowIncludeFolder(PathBuf),
+    ForbidIncludeFolder(PathBuf),
     SetSettings(Settings),
     /// Close (false) or reopen (true) a panel.
     ShowPane(layout::Pane, bool),

@@ -291,6 +291,14 @@ pub fn menu_bar(ui: &mut egui::Ui, app: &ServoscopeApp, out: &mut Vec<Command>) 
             {
                 out.push(Command::OpenSettings);
             }
+            if dialect.includes.is_some()
+                && ui
+                    .button("Include folders…")
+                    .on_hover_text("Folders besides the program's own that #include may read")
+                    .clicked()
+            {
+                out.push(Command::OpenIncludeFolders);
+            }
             ui.separator();
             let dialect_panes = app
                 .panel_titles()

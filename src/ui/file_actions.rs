@@ -34,9 +34,37 @@ impl ServoscopeApp {
         self.file_failed(files::Purpose::OpenProgram, message);
     }
 
-    /// A file could not be opened or written: said in its dialog and in the notice banner.
+    /// Whether an export of `kind` may write `path`: never over the program's files or the
+    /// session, and not over a file of another kind (the dialog says so and stays open).
+    pub(super) fn may_export(
+        &mut self,
+        path: &Path,
+        kind: servoscope_core::output::Output,
+        purpose: files::Purpose,
+    ) -> bool {
+        let mut inputs = match &self.path {
+            Some(top) => servoscope_core::output::program_inputs(top, self.debugger.project()),
+            None => Vec::new(),
+        };
+        inputs.extend(
+            (self.session_path.iter())
+                .map(|s| servoscope_core::output::Input::new(s, "the open session")),
+        );
+        match servoscope_core::output::may_write(path, kind, &inputs, false) {
+            Ok(()) => true,
+            Err(e) => {
+                self.file_failed(purpose, format!("{e}: choose another name"));
+                false
+            }
+        }
+    }
+
     /// File → Export ladder…: the diagram at the current position, as SVG.
     pub(super) fn export_ladder(&mut self, path: &std::path::Path) {
+        use servoscope_core::output::Output;
+        if !self.may_export(path, Output::LadderSvg, files::Purpose::ExportLadder) {
+            return;
+        }
         let d = &self.debugger;
         let m = d.machine();
         let Some(diagram) = servoscope_core::machine::plc::ladder::with_comments(
@@ -129,7 +157,7 @@ impl ServoscopeApp {
         };
         // The top file of a project opens with every file it includes.
         let project = dialect
-            .load(path)
+            .load_with(path, &self.prefs.include_folders())
             .map_err(|e| format!("Cannot open the program: {e}"))?;
         // A student opening an answer keeps the lesson open: its checks apply to any program
         // of its dialect.
@@ -178,7 +206,7 @@ impl ServoscopeApp {
     }
 
     pub(super) fn install_session(&mut self, path: &Path, session: &Session, debugger: Debugger) {
-        let changed = session.changed_on_disk();
+        let changed = session.changed_on_disk(&self.prefs.include_folders());
         self.debugger = debugger;
         self.path = session.program_path.clone();
         self.file_text = Some(file_texts(&self.debugger));
@@ -315,20 +343,18 @@ impl ServoscopeApp {
         let mut written = Vec::new();
         let mut texts = texts;
         let mut outside = Vec::new();
+        let folders = self.prefs.include_folders();
         for (k, f) in self.debugger.project().files.iter().enumerate() {
-            let target = if k == 0 {
-                path.clone()
+            // Never written outside the top file's folder (and the folders the user allowed),
+            // links followed: a session file names the files, and a crafted one must not make
+            // Save program overwrite anything elsewhere. Such a file stays unsaved.
+            let inside = if k == 0 {
+                Some(path.clone())
             } else {
-                dir.join(&f.name)
+                folders.path_of(&dir, &f.name)
             };
-            // Never written outside the top file's folder: a session file names the files, and
-            // a crafted one must not make Save program overwrite anything elsewhere. Such a
-            // file stays unsaved.
-            let escapes = Path::new(&f.name).is_absolute()
-                || Path::new(&f.name)
-                    .components()
-                    .any(|c| matches!(c, std::path::Component::ParentDir));
-            if k > 0 && escapes {
+            let target = inside.clone().unwrap_or_else(|| dir.join(&f.name));
+            if inside.is_none() {
                 if saved.get(k) != Some(&f.text) {
                     outside.push(f.name.clone());
                     if let (Some(t), Some(old)) = (texts.get_mut(k), saved.get(k)) {

@@ -92,12 +92,22 @@ impl LessonView {
                 &lesson,
                 ticks,
                 &name,
+                std::time::Duration::from_secs_f64(
+                    servoscope_core::lesson::DEFAULT_GRADING_SECONDS,
+                ),
             )
-            .map(|(done, mut outcomes)| {
+            .map(|graded| {
+                let mut outcomes = graded.outcomes;
                 // The step's checks were graded as step 1 of a one-step lesson.
                 outcomes.iter_mut().for_each(|o| o.step = step + 1);
-                let m = done.machine();
-                let how = if m.run_state().is_live() {
+                let m = graded.run.machine();
+                let how = if !graded.finished {
+                    format!(
+                        "stopped by the time budget at {} {}",
+                        m.ticks(),
+                        ticks_word(m)
+                    )
+                } else if m.run_state().is_live() {
                     format!(
                         "stopped at the grading length, {} {}",
                         m.ticks(),
@@ -337,6 +347,7 @@ fn edit(ui: &mut egui::Ui, debugger: &Debugger, view: &mut LessonView) {
                 let label = ui.label("Title");
                 ui.add(
                     egui::TextEdit::singleline(&mut view.lesson.title)
+                        .char_limit(servoscope_core::session::limits::TEXT)
                         .desired_width(f32::INFINITY)
                         .id_salt("lesson_title"),
                 )
@@ -406,6 +417,7 @@ fn edit(ui: &mut egui::Ui, debugger: &Debugger, view: &mut LessonView) {
                 ui.horizontal(|ui| {
                     ui.add(
                         egui::TextEdit::singleline(check)
+                            .char_limit(servoscope_core::session::limits::TEXT)
                             .desired_width(ui.available_width() - 40.0)
                             .id_salt(("lesson_check", i)),
                     );
@@ -450,6 +462,7 @@ fn edit(ui: &mut egui::Ui, debugger: &Debugger, view: &mut LessonView) {
             ui.label("Text of this step (Markdown: # heading, **bold**, `code`, - lists)");
             ui.add(
                 egui::TextEdit::multiline(&mut step.text)
+                    .char_limit(servoscope_core::session::limits::STEP_TEXT)
                     .desired_width(f32::INFINITY)
                     .desired_rows(8)
                     .code_editor()

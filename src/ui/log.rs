@@ -136,7 +136,7 @@ impl LogView {
         w: &mut dyn std::io::Write,
         project: &servoscope_core::machine::project::Project,
     ) -> std::io::Result<()> {
-        writeln!(w, "tick,step,instruction,line,explanation,written")?;
+        writeln!(w, "{}", servoscope_core::output::LOG_CSV_HEADER)?;
         for r in &self.log.rows {
             let written: Vec<String> = r.written.iter().map(|(n, v)| format!("{n}={v}")).collect();
             writeln!(

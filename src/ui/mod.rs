@@ -14,6 +14,7 @@ mod file_actions;
 pub mod files;
 pub mod frames;
 pub mod help;
+pub mod include_folders;
 pub mod layout;
 pub mod lesson;
 pub mod loading;
@@ -85,6 +86,7 @@ pub struct ServoscopeApp {
     pub watches: watches::WatchesView,
     pub log: log::LogView,
     pub settings: settings::SettingsView,
+    pub include_folders: include_folders::IncludeFoldersView,
     pub files: files::Files,
     /// The open lesson, if the session is one.
     pub lesson: Option<lesson::LessonView>,
@@ -168,6 +170,7 @@ impl ServoscopeApp {
             watches: watches::WatchesView::default(),
             log: log::LogView::default(),
             settings: settings::SettingsView::default(),
+            include_folders: include_folders::IncludeFoldersView::default(),
             files: files::Files::default(),
             lesson: None,
             saved_lesson: None,

@@ -273,6 +273,7 @@ fn channel_editor(
         let edit = ui
             .add(
                 egui::TextEdit::singleline(&mut view.new_channel)
+                    .char_limit(servoscope_core::session::limits::TEXT)
                     .desired_width(90.0)
                     .hint_text(format!(
                         "{}, …",

@@ -22,6 +22,9 @@ pub struct Prefs {
     /// a damaged entry costs nothing.
     #[serde(default = "layout::panes_before_debugger_panels")]
     pub known_panes: Vec<String>,
+    /// Folders besides a program's own that its `#include`d files may be read from (the
+    /// runner's `--include-dir`); none unless the user adds them.
+    pub include_folders: Vec<PathBuf>,
 }
 
 impl Default for Prefs {
@@ -34,11 +37,19 @@ impl Default for Prefs {
             only_used_registers: true,
             layout: None,
             known_panes: layout::Pane::common_titles(),
+            include_folders: Vec::new(),
         }
     }
 }
 
 impl Prefs {
+    /// Where included files may be read from, besides the program's own folder.
+    pub fn include_folders(&self) -> servoscope_core::machine::project::IncludeFolders {
+        servoscope_core::machine::project::IncludeFolders {
+            allowed: self.include_folders.clone(),
+        }
+    }
+
     /// The speed a program of `dialect` starts at: the user's last choice for it, else real
     /// time.
     pub fn speed_for(&self, dialect: &str) -> Speed {

@@ -174,6 +174,12 @@ impl ServoscopeApp {
         });
         self.files.windows(&ctx, &self.prefs, &mut commands);
         settings::window(&ctx, &self.debugger, &mut self.settings, &mut commands);
+        include_folders::window(
+            &ctx,
+            &self.prefs.include_folders,
+            &mut self.include_folders,
+            &mut commands,
+        );
         if self.pending.is_some() {
             unsaved_prompt(&ctx, self.pending.as_ref(), &mut commands);
         }

@@ -47,6 +47,7 @@ pub fn show(
     ui.horizontal(|ui| {
         let field = ui.add(
             egui::TextEdit::singleline(&mut view.new_expr)
+                .char_limit(servoscope_core::session::limits::TEXT)
                 .hint_text(debugger.dialect().vocabulary.watch_hint)
                 .desired_width(ui.available_width() - 60.0),
         );
@@ -81,6 +82,7 @@ fn watch_row(ui: &mut egui::Ui, debugger: &Debugger, i: usize, w: &Watch, out: &
     ui.horizontal(|ui| {
         ui.add(
             egui::TextEdit::singleline(&mut edited.expr)
+                .char_limit(servoscope_core::session::limits::TEXT)
                 .desired_width(150.0)
                 .min_size(egui::vec2(150.0, 0.0)),
         )

@@ -1,6 +1,6 @@
 //! The headless runner through the built binary: spec §8's flags, JSON shape and exit codes.
 
-use std::process::{Command, Output};
+use std::process::Output;
 
 use serde_json::Value;
 
@@ -9,7 +9,7 @@ fn program_file(text: &str) -> tempfile_lite::TempFile {
 }
 
 fn servoscope(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_servoscope"))
+    crate::common::command()
         .args(args)
         .output()
         .expect("run servoscope")
@@ -329,7 +329,7 @@ fn a_failing_stdout_is_reported_not_a_panic() {
         .write(true)
         .open("/dev/full")
         .expect("/dev/full exists on Linux");
-    let out = Command::new(env!("CARGO_BIN_EXE_servoscope"))
+    let out = crate::common::command()
         .args(["run", f.path(), "--json"])
         .stdout(full)
         .output()
@@ -345,7 +345,7 @@ fn a_failing_stdout_is_reported_not_a_panic() {
 fn a_closed_pipe_ends_quietly() {
     // Long enough that the reader is gone before the report is written.
     let f = program_file("loop: CLC INC, 11\nJMP loop\n");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_servoscope"))
+    let mut child = crate::common::command()
         .args(["run", f.path(), "--max-ticks", "3000000", "--json"])
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
@@ -429,20 +429,36 @@ fn a_file_of_errors_only_reports_a_bounded_list() {
 fn saving_a_session_never_destroys_what_is_not_one() {
     let f = program_file("WRP 11, 1\nEND\n");
     let before = std::fs::read(f.path()).expect("the program");
-    // Onto the program itself: refused, the program intact.
-    let out = servoscope(&["run", f.path(), "--save-session", f.path(), "--json"]);
+    // Onto the program itself: refused, even with --overwrite, the program intact.
+    for overwrite in [None, Some("--overwrite")] {
+        let mut args = vec!["run", f.path(), "--save-session", f.path(), "--json"];
+        args.extend(overwrite);
+        let out = servoscope(&args);
+        assert_eq!(out.status.code(), Some(2));
+        assert!(out.stdout.is_empty());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("never writes over its input"), "{err}");
+        assert_eq!(std::fs::read(f.path()).expect("still there"), before);
+    }
+    // Onto another program: refused without --overwrite.
+    let other = program_file("WRP 12, 1\nEND\n");
+    let out = servoscope(&["run", f.path(), "--save-session", other.path()]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(out.stdout.is_empty());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--overwrite"));
-    assert_eq!(std::fs::read(f.path()).expect("still there"), before);
     // Onto a device: refused, and the device stays a device.
     let out = servoscope(&["run", f.path(), "--save-session", "/dev/null"]);
     assert_eq!(out.status.code(), Some(2));
     let null = std::fs::metadata("/dev/null").expect("exists");
     assert!(!null.file_type().is_file(), "/dev/null is still a device");
     // With --overwrite the user asked for it.
-    let out = servoscope(&["run", f.path(), "--save-session", f.path(), "--overwrite"]);
+    let out = servoscope(&[
+        "run",
+        f.path(),
+        "--save-session",
+        other.path(),
+        "--overwrite",
+    ]);
     assert_eq!(out.status.code(), Some(0));
-    let text = std::fs::read_to_string(f.path()).expect("replaced");
+    let text = std::fs::read_to_string(other.path()).expect("replaced");
     assert!(text.contains("format: 2"), "now a session");
 }

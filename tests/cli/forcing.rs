@@ -1,14 +1,9 @@
 //! `servoscope run --force`: bits forced from a scan on, in the runner's JSON.
 
-use std::process::Command;
-
 const DL: &str = "STR X0\nOUT Y0\nSTR Y0\nOUT Y1\nEND\n";
 
 fn servoscope(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_servoscope"))
-        .args(args)
-        .output()
-        .expect("runs")
+    crate::common::command().args(args).output().expect("runs")
 }
 
 #[test]

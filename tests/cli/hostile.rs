@@ -44,3 +44,198 @@ fn the_runner_refuses_a_device_or_a_huge_file_with_a_message() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("not a regular file"), "{err}");
 }
+
+/// A scratch folder of this test process's own.
+fn folder(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("servoscope-out-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a temp dir");
+    dir
+}
+
+fn text(path: &std::path::Path) -> String {
+    std::fs::read_to_string(path).expect("readable")
+}
+
+#[test]
+fn no_output_replaces_the_program_or_a_file_that_is_not_its_kind() {
+    let dir = folder("outputs");
+    let program = dir.join("prog.dl205");
+    let source = "STR X0\nOUT Y0\nEND\n";
+    std::fs::write(&program, source).expect("written");
+    let notes = dir.join("notes.txt");
+    std::fs::write(&notes, "my notes\n").expect("written");
+    let p = program.to_str().expect("utf-8");
+    let n = notes.to_str().expect("utf-8");
+    let s = |path: &std::path::Path| path.to_str().expect("utf-8").to_string();
+    // The program itself, as --svg, --trace or --save-session, even with --overwrite.
+    for args in [
+        vec!["ladder", p, "--svg", p],
+        vec!["ladder", p, "--svg", p, "--overwrite"],
+        vec!["run", p, "--trace", p, "--overwrite"],
+        vec!["run", p, "--save-session", p, "--overwrite"],
+    ] {
+        let out = servoscope(&args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("never writes over its input"),
+            "{args:?}: {err}"
+        );
+        assert_eq!(text(&program), source, "{args:?}: the program stays");
+    }
+    // Another file: only with --overwrite.
+    for args in [vec!["ladder", p, "--svg", n], vec!["run", p, "--trace", n]] {
+        let out = servoscope(&args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("pass --overwrite"), "{err}");
+        assert_eq!(text(&notes), "my notes\n");
+    }
+    let out = servoscope(&["run", p, "--trace", n, "--overwrite"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        text(&notes).starts_with("{\"n\":1"),
+        "replaced by the trace"
+    );
+    // Its own earlier output is replaced without asking.
+    let svg = dir.join("prog.svg");
+    for _ in 0..2 {
+        let out = servoscope(&["ladder", p, "--svg", &s(&svg)]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let trace = dir.join("t.jsonl");
+    for _ in 0..2 {
+        let out = servoscope(&["run", p, "--trace", &s(&trace)]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    // Through a link in the folder to a file outside it: the file is what counts.
+    #[cfg(unix)]
+    {
+        let outside = folder("outputs-outside").join("keep.txt");
+        std::fs::write(&outside, "keep me\n").expect("written");
+        let link = dir.join("out.svg");
+        std::os::unix::fs::symlink(&outside, &link).expect("a link");
+        let out = servoscope(&["ladder", p, "--svg", &s(&link)]);
+        assert_eq!(out.status.code(), Some(2));
+        assert_eq!(text(&outside), "keep me\n");
+        let to_program = dir.join("prog-link.svg");
+        std::os::unix::fs::symlink(&program, &to_program).expect("a link");
+        let out = servoscope(&["ladder", p, "--svg", &s(&to_program), "--overwrite"]);
+        assert_eq!(out.status.code(), Some(2));
+        assert_eq!(text(&program), source);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn help_and_version_with_json_print_one_json_object() {
+    for args in [
+        vec!["run", "--help", "--json"],
+        vec!["check", "-h", "--json"],
+        vec!["-V", "--json"],
+        vec!["--version", "--json"],
+    ] {
+        let out = servoscope(&args);
+        assert!(out.status.success(), "{args:?}");
+        let value: serde_json::Value = serde_json::from_slice(&out.stdout)
+            .unwrap_or_else(|e| panic!("{args:?}: one JSON object: {e}"));
+        assert!(
+            value["help"].as_str().is_some_and(|h| h.contains("Usage"))
+                || value["version"] == env!("CARGO_PKG_VERSION"),
+            "{args:?}: {value}"
+        );
+    }
+    // Without --json, clap's own text.
+    let out = servoscope(&["run", "--help"]);
+    assert!(String::from_utf8_lossy(&out.stdout).starts_with("Run a program headless"));
+}
+
+#[test]
+fn check_has_a_time_budget_and_a_lessons_tick_limit_is_bounded() {
+    let dir = folder("budget");
+    // A lesson asking for u64::MAX scans of a 2,001-instruction program, graded with a budget
+    // of 0.3 s: it is bounded to 10,000,000 scans and stops in time.
+    let lesson = dir.join("forever.ron");
+    let program = "STR X0\\nOUT Y0\\n".repeat(1_000) + "END";
+    std::fs::write(
+        &lesson,
+        format!(
+            "(format: 2, dialect: \"dl205\", program: \"{program}\", \
+             lesson: Some((title: \"Forever\", steps: [(text: \"s\", checks: [\"Y0 == 0\"])], max_ticks: Some(18446744073709551615))))"
+        ),
+    )
+    .expect("written");
+    let l = lesson.to_str().expect("utf-8");
+    let started = std::time::Instant::now();
+    let out = servoscope(&["check", l, "--json", "--timeout", "0.3"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("graded over 10000000"),
+        "the bound is said: {err}"
+    );
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one object");
+    assert_eq!(report["run"]["status"], "timed out", "{report}");
+    let check = &report["checks"][0];
+    assert_eq!(check["pass"], false);
+    assert!(
+        check["error"]
+            .as_str()
+            .is_some_and(|e| e.contains("time budget")),
+        "{check}"
+    );
+    // A budget, not a speed: the run stopped long before its 10,000,000 ticks would end.
+    assert!(started.elapsed() < std::time::Duration::from_secs(60));
+    // A budget that is no number of seconds, and a tick limit past the bound, are refused.
+    for args in [
+        vec!["check", l, "--timeout", "0"],
+        vec!["check", l, "--timeout", "-1"],
+        vec!["check", l, "--timeout", "NaN"],
+        vec!["check", l, "--max-ticks", "1000000000"],
+    ] {
+        let out = servoscope(&args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn include_dir_lets_the_runner_read_a_shared_folder() {
+    let root = folder("include-dir");
+    let shared = root.join("shared");
+    std::fs::create_dir_all(&shared).expect("a folder");
+    std::fs::write(shared.join("setup.tml"), "int a;\n").expect("written");
+    let project = root.join("axis");
+    std::fs::create_dir_all(&project).expect("a folder");
+    let top = project.join("main.tml");
+    std::fs::write(&top, "#include \"../shared/setup.tml\"\na = 5;\nEND;\n").expect("written");
+    let t = top.to_str().expect("utf-8");
+    let refused = servoscope(&["run", t]);
+    assert_eq!(refused.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert!(err.contains("outside the program's folder"), "{err}");
+    assert!(err.contains("--include-dir"), "{err}");
+    let out = servoscope(&[
+        "run",
+        t,
+        "--include-dir",
+        shared.to_str().expect("utf-8"),
+        "--json",
+    ]);
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one object");
+    assert_eq!(report["status"], "ended", "{report}");
+    let _ = std::fs::remove_dir_all(&root);
+}

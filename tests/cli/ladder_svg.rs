@@ -1,16 +1,9 @@
 //! `servoscope ladder --svg`: the drawing a user exports carries each element's line, operand
 //! and power.
 
-use std::process::Command;
-
 use crate::common;
 
-fn servoscope(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_servoscope"))
-        .args(args)
-        .output()
-        .expect("runs")
-}
+use common::servoscope;
 
 /// Each `<g class="element…">` of an SVG as (line, operand, powered).
 fn svg_elements(svg: &str) -> Vec<(usize, String, bool)> {

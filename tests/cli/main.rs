@@ -10,10 +10,14 @@ mod common {
 
     /// The built binary, run with `args`.
     pub fn servoscope(args: &[&str]) -> std::process::Output {
-        std::process::Command::new(env!("CARGO_BIN_EXE_servoscope"))
-            .args(args)
-            .output()
-            .expect("run servoscope")
+        command().args(args).output().expect("run servoscope")
+    }
+
+    /// The built binary, with a home of its own.
+    pub fn command() -> std::process::Command {
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_servoscope"));
+        with_scratch_home(&mut command);
+        command
     }
 }
 

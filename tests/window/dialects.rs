@@ -143,16 +143,17 @@ fn the_runner_picks_every_dialect_by_extension() {
         let &(name, text) = d.examples.first().expect("an example");
         let path = temp(name);
         std::fs::write(&path, text).expect("write");
-        let out = Command::new(env!("CARGO_BIN_EXE_servoscope"))
-            .args([
-                "run",
-                path.to_str().expect("utf-8"),
-                "--max-ticks",
-                "50",
-                "--json",
-            ])
-            .output()
-            .expect("runs");
+        let out =
+            crate::common::with_scratch_home(&mut Command::new(env!("CARGO_BIN_EXE_servoscope")))
+                .args([
+                    "run",
+                    path.to_str().expect("utf-8"),
+                    "--max-ticks",
+                    "50",
+                    "--json",
+                ])
+                .output()
+                .expect("runs");
         assert_ne!(out.status.code(), Some(2), "{name}: {:?}", out);
         let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
         assert_eq!(v["dialect"], d.name);

@@ -303,3 +303,68 @@ fn save_program_never_writes_outside_the_programs_folder() {
     let notice = h.state().notice.clone().unwrap_or_default();
     assert!(notice.contains("Not written"), "{notice}");
 }
+
+#[test]
+fn an_include_outside_the_folder_is_read_only_from_a_folder_the_user_allows() {
+    let root = std::env::temp_dir().join(format!("servoscope-gui-incdir-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&root);
+    let (shared, axis) = (root.join("shared"), root.join("axis"));
+    std::fs::create_dir_all(&shared).expect("dir");
+    std::fs::create_dir_all(&axis).expect("dir");
+    std::fs::write(shared.join("setup.tml"), "int a;\n").expect("w");
+    let top = axis.join("motion.tml");
+    std::fs::write(&top, "#include \"../shared/setup.tml\"\na = 5;\nEND;\n").expect("w");
+
+    let mut h = harness(ServoscopeApp::new(Prefs::default()));
+    apply(&mut h, Command::OpenPath(top.clone()));
+    assert_eq!(h.state().debugger.project().files.len(), 1, "not read");
+    assert!(h.state().debugger.has_errors());
+    // View → Include folders…, type the folder, Allow.
+    apply(&mut h, Command::OpenIncludeFolders);
+    h.get_by_label("Folder to allow").focus();
+    h.step();
+    h.get_by_label("Folder to allow")
+        .type_text(shared.to_str().expect("utf-8"));
+    h.run_steps(2);
+    h.get_by_label("Allow").click();
+    h.run_steps(3);
+    assert_eq!(h.state().prefs.include_folders, [shared.clone()]);
+    // The file is read at once and the program assembles.
+    let names: Vec<String> = (h.state().debugger.project().files.iter())
+        .map(|f| f.name.clone())
+        .collect();
+    assert_eq!(names, ["motion.tml", "../shared/setup.tml"]);
+    assert!(!h.state().debugger.has_errors());
+    // Removed, it is not read any more.
+    h.get_by_label("Remove").click();
+    h.run_steps(2);
+    assert!(h.state().prefs.include_folders.is_empty());
+    apply(&mut h, Command::OpenPath(top));
+    assert_eq!(h.state().debugger.project().files.len(), 1);
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+#[test]
+fn an_export_never_replaces_the_programs_files() {
+    let dir = two_file_project("export", "a = 1;\n");
+    let mut h = harness(ServoscopeApp::new(Prefs::default()));
+    apply(&mut h, Command::OpenPath(dir.join("motion.tml")));
+    let part = std::fs::read_to_string(dir.join("part.tml")).expect("r");
+    // The plot's and the log's exports, onto the included file: refused, the file intact.
+    apply(&mut h, Command::ExportCsv(dir.join("part.tml")));
+    apply(&mut h, Command::ExportLog(dir.join("part.tml")));
+    assert_eq!(
+        std::fs::read_to_string(dir.join("part.tml")).expect("r"),
+        part
+    );
+    let notice = h.state().notice.clone().unwrap_or_default();
+    assert!(notice.contains("never writes over its input"), "{notice}");
+    // A new file is written.
+    apply(&mut h, Command::ExportCsv(dir.join("plot.csv")));
+    assert!(
+        std::fs::read_to_string(dir.join("plot.csv"))
+            .expect("r")
+            .starts_with("tick,time_ms")
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

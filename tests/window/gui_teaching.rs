@@ -106,10 +106,12 @@ fn check_this_step_agrees_with_servoscope_check() {
     let graded = h.state().lesson.as_ref().and_then(|l| l.checked.as_ref());
     let (_, outcomes) = graded.and_then(|g| g.result.as_ref().ok()).expect("graded");
     let window: Vec<serde_json::Value> = outcomes.iter().map(|o| o.to_json()).collect();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_servoscope"))
-        .args(["check", path.to_str().expect("a path"), "--json"])
-        .output()
-        .expect("servoscope check runs");
+    let out = common::with_scratch_home(&mut std::process::Command::new(env!(
+        "CARGO_BIN_EXE_servoscope"
+    )))
+    .args(["check", path.to_str().expect("a path"), "--json"])
+    .output()
+    .expect("servoscope check runs");
     let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
     let cli: Vec<serde_json::Value> = (report["checks"].as_array().expect("checks").iter())
         .filter(|c| c["step"] == 2)

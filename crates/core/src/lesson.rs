@@ -169,23 +169,69 @@ pub fn grading_ticks(
     asked
         .or(lesson.max_ticks)
         .unwrap_or(dialect.default_max_ticks)
+        .min(MAX_LESSON_TICKS)
+}
+
+/// The most ticks (scans) a lesson is graded over: the drives' runner default, 20 minutes of a
+/// SilverLode's time and far past any exercise; a session asking more is cut to it with a
+/// warning, as a replay past [`crate::session::MAX_REPLAY_TICKS`] is refused.
+pub const MAX_LESSON_TICKS: u64 = 10_000_000;
+
+/// The wall-clock budget of `servoscope check` unless `--timeout` says otherwise.
+pub const DEFAULT_GRADING_SECONDS: f64 = 60.0;
+
+/// A graded run: the machine at its end, every check's outcome, and whether the run got to
+/// its last tick within the time budget (if not, every check failed unevaluated).
+pub struct Grading {
+    pub run: Box<dyn crate::debugger::Engine>,
+    pub outcomes: Vec<CheckOutcome>,
+    pub finished: bool,
 }
 
 /// The run a lesson grades, the same for `servoscope check` and the window's Check: `engine`'s
 /// program from its start, with the lesson session's edits and inputs, for `ticks`; every check
 /// of every step evaluated at its end. `Err` when the session's edits name what the program
 /// lacks.
+///
+/// `budget` bounds the wall-clock time: a run that has not reached `ticks` when it is spent
+/// stops there, and every check fails unevaluated saying so (grading half a run would grade
+/// the wrong moment).
 pub fn grading_run(
     engine: &dyn crate::debugger::Engine,
     session: &crate::session::Session,
     lesson: &Lesson,
     ticks: u64,
     path: &str,
-) -> Result<(Box<dyn crate::debugger::Engine>, Vec<CheckOutcome>), crate::session::SessionError> {
+    budget: std::time::Duration,
+) -> Result<Grading, crate::session::SessionError> {
     let events = session.user_events(engine.machine(), path)?;
-    let done = crate::runner::run_engine(engine, &events, ticks);
-    let outcomes = evaluate_all(lesson, done.machine());
-    Ok((done, outcomes))
+    let started = std::time::Instant::now();
+    let deadline = started
+        .checked_add(budget)
+        .unwrap_or(started + std::time::Duration::from_secs(86_400 * 365));
+    let (run, finished) = crate::runner::run_engine_until(engine, &events, ticks, deadline);
+    let outcomes = if finished {
+        evaluate_all(lesson, run.machine())
+    } else {
+        let unit = if run.machine().is_plc() {
+            "scan"
+        } else {
+            "tick"
+        };
+        unevaluated(
+            lesson,
+            &format!(
+                "grading stopped after {:.1} s at {unit} {} of {ticks}: the time budget (--timeout) ran out",
+                started.elapsed().as_secs_f64(),
+                run.machine().ticks()
+            ),
+        )
+    };
+    Ok(Grading {
+        run,
+        outcomes,
+        finished,
+    })
 }
 
 /// Every check of `lesson` failed without being evaluated, each saying `why` (the program

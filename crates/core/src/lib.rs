@@ -6,12 +6,14 @@
 //! - [`debugger`]: run control, time travel and traces over any machine.
 //! - [`registry`]: the composition root: the list of dialects, each opened as a debugger engine.
 //!   Below it no file names a dialect outside the dialect's own folder.
-//! - [`session`], [`runner`], [`lesson`]: saved sessions, the headless runner, lessons.
+//! - [`session`], [`runner`], [`lesson`], [`output`]: saved sessions, the headless runner,
+//!   lessons, and what a command may write over.
 
 pub mod atomic;
 pub mod debugger;
 pub mod lesson;
 pub mod machine;
+pub mod output;
 pub mod registry;
 pub mod runner;
 pub mod session;

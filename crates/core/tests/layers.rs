@@ -5,11 +5,12 @@
 
 use std::path::{Path, PathBuf};
 
-const LAYERS_ABOVE_THE_DEBUGGER: [&str; 4] = [
+const LAYERS_ABOVE_THE_DEBUGGER: [&str; 5] = [
     "crate::registry",
     "crate::session",
     "crate::runner",
     "crate::lesson",
+    "crate::output",
 ];
 const WINDOW: [&str; 5] = ["egui", "eframe", "rfd", "winit", "servoscope::ui"];
 const DIALECTS: [&str; 4] = ["silverlode", "tml", "opennet", "dl205"];

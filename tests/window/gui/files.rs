@@ -87,7 +87,7 @@ fn a_long_replay_runs_in_the_background_and_can_be_cancelled() {
     let dir = std::env::temp_dir().join(format!("servoscope-gui-long-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let mut h = harness(app_with("WRP 20, 5\nEND"));
-    h.state_mut().open_path(long_plc_session(&dir, 400_000_000));
+    h.state_mut().open_path(endless_plc_session(&dir));
     h.run_steps(3);
     assert!(h.state().loading.is_some(), "replaying in the background");
     h.get_by_label("Opening session");
@@ -554,4 +554,40 @@ fn each_dialect_starts_in_real_time_and_keeps_its_own_speed() {
         Speed::PerSecond(100.0),
         "the PLC's own again"
     );
+}
+
+#[test]
+fn stored_preferences_naming_odd_files_change_nothing_about_opening_a_program() {
+    // What a machine's stored preferences may hold after months of use: recent files since
+    // deleted, a folder, a device, an absurd path, an include folder that is gone.
+    let dir = std::env::temp_dir().join(format!("servoscope-gui-prefs-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let program = dir.join("prog.qsl");
+    std::fs::write(&program, "WRP 11, 7\nEND\n").unwrap();
+    let odd = Prefs {
+        recent: vec![
+            dir.join("gone.qsl"),
+            dir.clone(),
+            std::path::PathBuf::from("/dev/null"),
+            std::path::PathBuf::from("x".repeat(5_000)),
+            program.clone(),
+        ],
+        include_folders: vec![dir.join("gone")],
+        ..Prefs::default()
+    };
+    let opened = |prefs: Prefs| {
+        let mut h = harness(ServoscopeApp::new(prefs));
+        h.state_mut().open_path(program.clone());
+        h.run_steps(3);
+        let app = h.state();
+        (
+            app.debugger.name().to_string(),
+            app.debugger.source().to_string(),
+            app.debugger.has_errors(),
+            app.path.clone(),
+            app.notice.clone(),
+        )
+    };
+    assert_eq!(opened(odd), opened(Prefs::default()));
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -74,12 +74,16 @@ fn long_session(dir: &std::path::Path, ticks: u64) -> std::path::PathBuf {
     path
 }
 
-/// A session far into a PLC program: the SilverLode loop above replays compiled, which may
-/// finish within a few frames; scans replay at a few million a second at most.
-fn long_plc_session(dir: &std::path::Path, scans: u64) -> std::path::PathBuf {
-    let path = dir.join(format!("long-{scans}-scans.ron"));
+/// A DL205 session at the most scans a replay is allowed (a billion) of a program of 21
+/// instructions: a replay no machine finishes while a test waits for it (a 3-instruction one
+/// at 400 million scans sometimes finished before Cancel was clicked), in slices short enough
+/// for Cancel to be seen at once.
+fn endless_plc_session(dir: &std::path::Path) -> std::path::PathBuf {
+    let path = dir.join("endless.ron");
+    let program = "STR X0\nOUT Y0\n".repeat(10) + "END";
     let text = format!(
-        "(format: 2, dialect: \"dl205\", program: \"STR X0\\nOUT Y0\\nEND\", at: (tick: {scans}))"
+        "(format: 2, dialect: \"dl205\", program: \"{program}\", at: (tick: {}))",
+        servoscope_core::session::MAX_REPLAY_TICKS
     );
     std::fs::write(&path, text).unwrap();
     path

@@ -127,6 +127,9 @@ impl Debugger {
         let resolved = self.resolve_channels(self.engine.machine());
         let marks: Vec<Mark> = self.marks().to_vec();
         let stopped = self.engine.stopped();
+        // Paused just before the instruction that stopped the run: stays before it.
+        let before_stop =
+            stopped && here == furthest && self.engine.machine().run_state().is_live();
         let mut engine = self.engine.restarted(self.events().to_vec(), resolved);
         engine.forward(furthest, &StopWhen::default());
         if stopped {
@@ -135,7 +138,11 @@ impl Debugger {
         for m in marks {
             engine.mark_at(m.at, m.kind, m.line);
         }
-        engine.goto(here);
+        if before_stop {
+            engine.goto_live(here);
+        } else {
+            engine.goto(here);
+        }
         self.engine = engine;
     }
 }

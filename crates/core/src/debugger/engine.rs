@@ -96,6 +96,11 @@ pub trait Engine: Send {
     fn forward(&mut self, limit: Pos, stop: &StopWhen<'_>) -> StopReason;
     /// Rebuild the state at `pos` (clamped to the furthest position).
     fn goto(&mut self, pos: Pos);
+    /// [`Engine::goto`], but at a stopped run's furthest position the moment before the stop.
+    fn goto_live(&mut self, pos: Pos);
+    /// At the furthest position, run the instruction there if it stops the run (see
+    /// [`Timeline::run_into_stop`]); true when the machine is stopped.
+    fn run_into_stop(&mut self) -> bool;
     /// The last instruction boundary before `before` where `wanted` holds.
     fn find_back(&mut self, before: Pos, wanted: &StopWhen<'_>) -> Option<Pos>;
     /// Go on with a search back for `wanted`, replaying about `budget` ticks at most (see
@@ -189,6 +194,12 @@ impl<M: Machine> Engine for Core<M> {
     }
     fn goto(&mut self, pos: Pos) {
         self.timeline.goto(pos);
+    }
+    fn goto_live(&mut self, pos: Pos) {
+        self.timeline.goto_live(pos);
+    }
+    fn run_into_stop(&mut self) -> bool {
+        self.timeline.run_into_stop()
     }
     fn find_back(&mut self, before: Pos, wanted: &StopWhen<'_>) -> Option<Pos> {
         self.timeline

@@ -146,26 +146,10 @@ fn empty_engine(dialect: &Dialect, settings: &Settings) -> Box<dyn Engine> {
 /// At the furthest position of a rebuilt timeline whose run stopped there (a fault leaves the
 /// position where the faulting instruction began, so a replay to it stops just before): run
 /// that instruction, so the engine holds the stop. True when the machine is stopped.
+/// An instruction that does not stop the run (an error-lamp mark) is not run: the
+/// furthest position stays.
 fn run_into_stop(engine: &mut dyn Engine) -> bool {
-    let m = engine.machine();
-    if !m.run_state().is_live() {
-        return true;
-    }
-    let at = m.pos();
-    if at != engine.furthest() {
-        return false;
-    }
-    let next = Pos {
-        tick: at.tick,
-        step: at.step.saturating_add(1),
-    };
-    engine.forward(next, &StopWhen::default());
-    if engine.machine().run_state().is_live() {
-        // It did not stop there after all (an older file's error-lamp mark): back.
-        engine.goto(at);
-        return false;
-    }
-    true
+    engine.run_into_stop()
 }
 
 impl Debugger {
@@ -346,10 +330,14 @@ impl Debugger {
     }
     /// Read from disk, beside the top file in `dir`, the files the program's texts now include
     /// but it does not hold yet (an `#include` typed in): the next assembly has them.
-    pub fn add_new_includes(&mut self, dir: &std::path::Path) -> usize {
+    pub fn add_new_includes(
+        &mut self,
+        dir: &std::path::Path,
+        folders: &crate::machine::project::IncludeFolders,
+    ) -> usize {
         match self.dialect.includes {
             Some(includes) => {
-                crate::machine::project::add_new_includes(&mut self.project, dir, includes)
+                crate::machine::project::add_new_includes(&mut self.project, dir, includes, folders)
             }
             None => 0,
         }

@@ -158,10 +158,21 @@ pub struct DialectInfo {
 }
 
 impl DialectInfo {
-    /// Read the program whose top file is `path`, with its included files.
+    /// Read the program whose top file is `path`, with its included files from its own folder
+    /// and below.
     pub fn load(&self, path: &Path) -> Result<Project, crate::text::TextError> {
+        self.load_with(path, &crate::machine::project::IncludeFolders::default())
+    }
+
+    /// Read the program whose top file is `path`, with its included files from its own folder
+    /// and below and from the folders `folders` allows.
+    pub fn load_with(
+        &self,
+        path: &Path,
+        folders: &crate::machine::project::IncludeFolders,
+    ) -> Result<Project, crate::text::TextError> {
         match self.includes {
-            Some(includes) => crate::machine::project::load(path, includes),
+            Some(includes) => crate::machine::project::load(path, includes, folders),
             None => {
                 let text = crate::text::read(path)?;
                 let name = path.file_name().map_or_else(

@@ -232,11 +232,12 @@ fn find_on_disk(path: &Path) -> Option<PathBuf> {
 }
 
 /// Read the program whose top file is `top`, with every file it includes (by `includes`, the
-/// dialect's list of the paths a text includes), in order of first inclusion. Only the top
-/// file's own error is returned.
+/// dialect's list of the paths a text includes) from the folders `folders` allows, in order
+/// of first inclusion. Only the top file's own error is returned.
 pub fn load(
     top: &Path,
     includes: fn(&str) -> Vec<String>,
+    folders: &IncludeFolders,
 ) -> Result<Project, crate::text::TextError> {
     let text = crate::text::read(top)?;
     let name = top.file_name().map_or_else(
@@ -245,20 +246,80 @@ pub fn load(
     );
     let dir = top.parent().map(Path::to_path_buf).unwrap_or_default();
     let mut project = Project::single(name, text);
-    add_new_includes(&mut project, &dir, includes);
+    add_new_includes(&mut project, &dir, includes, folders);
     Ok(project)
+}
+
+/// The folders besides the top file's own (and its subfolders) that a program's included
+/// files may be read from: none unless the user names them (`--include-dir`, the window's
+/// setting). Graders run students' files; an `#include "/etc/passwd"` must not read it.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct IncludeFolders {
+    pub allowed: Vec<PathBuf>,
+}
+
+impl IncludeFolders {
+    /// Whether the file `path` lies in `dir` (the top file's folder) or an allowed folder, or
+    /// below one, once its symbolic links are followed (a link in the folder to a file outside
+    /// it is outside).
+    pub fn permit(&self, dir: &Path, path: &Path) -> bool {
+        let Ok(real) = path.canonicalize() else {
+            return false;
+        };
+        std::iter::once(dir)
+            .chain(self.allowed.iter().map(PathBuf::as_path))
+            .any(|root| {
+                let root = if root.as_os_str().is_empty() {
+                    Path::new(".")
+                } else {
+                    root
+                };
+                root.canonicalize().is_ok_and(|r| real.starts_with(r))
+            })
+    }
+
+    /// Where the program file named `name` (a name of [`resolve_include`]) of a program whose
+    /// top file is in `dir` is on disk, if the rule lets servoscope read or write it there.
+    pub fn path_of(&self, dir: &Path, name: &str) -> Option<PathBuf> {
+        let on_disk = if Path::new(name).is_absolute() {
+            PathBuf::from(name)
+        } else {
+            dir.join(name)
+        };
+        // A file not there yet may be written only inside the folder itself: its name must
+        // not climb out of it.
+        if !on_disk.exists() {
+            return (!outside_top_folder(name)).then_some(on_disk);
+        }
+        self.permit(dir, &on_disk).then_some(on_disk)
+    }
+}
+
+/// Whether an included file's name (of [`resolve_include`]) leaves the top file's folder: an
+/// absolute path or one that starts with `..`.
+pub fn outside_top_folder(name: &str) -> bool {
+    Path::new(name).is_absolute()
+        || name.starts_with('/')
+        || name == ".."
+        || name.starts_with("../")
 }
 
 /// The file named `wanted` (a name of [`resolve_include`]) of a program whose top file is in
 /// `dir`, read from disk and named as it is found there (so a case-folded include still names
-/// the real file); `None` when there is no such readable file.
-pub fn read_included(dir: &Path, wanted: &str) -> Option<SourceFile> {
+/// the real file); `None` when there is no such readable file or `folders` does not allow it.
+pub fn read_included(dir: &Path, wanted: &str, folders: &IncludeFolders) -> Option<SourceFile> {
     let on_disk = if Path::new(wanted).is_absolute() {
         PathBuf::from(wanted)
     } else {
         dir.join(wanted)
     };
+    if outside_top_folder(wanted) && folders.allowed.is_empty() {
+        return None;
+    }
     let found = find_on_disk(&on_disk)?;
+    if !folders.permit(dir, &found) {
+        return None;
+    }
     let text = read_lossy(&found)?;
     let name = if Path::new(wanted).is_absolute() {
         found.to_string_lossy().replace('\\', "/")
@@ -278,6 +339,7 @@ pub fn add_new_includes(
     project: &mut Project,
     dir: &Path,
     includes: fn(&str) -> Vec<String>,
+    folders: &IncludeFolders,
 ) -> usize {
     let before = project.files.len();
     let mut next = 0;
@@ -286,7 +348,7 @@ pub fn add_new_includes(
         for path in includes(&project.files[next].text) {
             let wanted = resolve_include(&includer, &path);
             if project.index_of(&wanted).is_none()
-                && let Some(file) = read_included(dir, &wanted)
+                && let Some(file) = read_included(dir, &wanted, folders)
                 && project.index_of(&file.name).is_none()
             {
                 project.files.push(file);

@@ -52,7 +52,7 @@ impl Session {
             events: named_events(run.machine, run.events),
             at: run.machine.pos(),
             furthest: run.machine.pos(),
-            stopped: !run.machine.run_state().is_live(),
+            stopped: Some(!run.machine.run_state().is_live()),
             ..Session::default()
         }
     }
@@ -102,7 +102,7 @@ impl Session {
             .filter(|b| b.is_plain())
             .filter_map(crate::debugger::Breakpoint::line_number);
         let project = debugger.project();
-        Session {
+        let mut session = Session {
             breakpoints: plain
                 .clone()
                 .filter(|&l| Project::split(l).0 == 0)
@@ -120,7 +120,10 @@ impl Session {
             break_on_error: debugger.break_on_error(),
             channels: (channels != defaults.as_slice()).then(|| channels.to_vec()),
             furthest: debugger.furthest(),
-            stopped: debugger.stopped_at_furthest(),
+            stopped: Some(debugger.stopped_at_furthest()),
+            before_stop: debugger.stopped_at_furthest()
+                && debugger.pos() == debugger.furthest()
+                && debugger.machine().run_state().is_live(),
             marks: debugger
                 .marks()
                 .iter()
@@ -132,6 +135,10 @@ impl Session {
                 .collect(),
             view,
             ..run
-        }
+        };
+        // The window's fields take no more than this; a text that came another way is cut
+        // here, so what is saved always reads back.
+        session.cut_long_texts();
+        session
     }
 }

@@ -75,44 +75,32 @@ impl Session {
                 )));
             }
         }
+        // What a user types (a condition, a watch, a lesson's text) is cut to the limit with a
+        // warning, so a file an older build saved past it still opens; names, which come from
+        // the program and cannot be cut without changing what they name, are refused.
+        let cut = self.cut_long_texts();
+        self.warnings.extend(cut);
+        if let Some(lesson) = &mut self.lesson
+            && let Some(ticks) = lesson.max_ticks
+            && ticks > crate::lesson::MAX_LESSON_TICKS
+        {
+            lesson.max_ticks = Some(crate::lesson::MAX_LESSON_TICKS);
+            self.warnings.push(format!(
+                "the lesson asks to run {ticks} ticks; it is graded over {}, the most servoscope grades",
+                crate::lesson::MAX_LESSON_TICKS
+            ));
+        }
         let texts = std::iter::once(self.program_name.as_str())
             .chain(self.files.iter().map(|f| f.name.as_str()))
             .chain(self.file_breakpoints.iter().map(|(f, _)| f.as_str()))
-            .chain(self.breakpoint_list.iter().flat_map(|b| {
-                let location = match &b.kind {
-                    crate::debugger::BreakKind::Data { location, .. } => location.as_str(),
-                    crate::debugger::BreakKind::Line(_) => "",
-                };
-                [b.condition.as_str(), b.log.as_str(), location]
+            .chain(self.breakpoint_list.iter().map(|b| match &b.kind {
+                crate::debugger::BreakKind::Data { location, .. } => location.as_str(),
+                crate::debugger::BreakKind::Line(_) => "",
             }))
-            .chain(self.watches.iter().map(|w| w.expr.as_str()))
-            .chain(
-                self.channels
-                    .iter()
-                    .flatten()
-                    .flat_map(|c| [c.location.as_str(), c.label.as_str()]),
-            )
+            .chain(self.channels.iter().flatten().map(|c| c.location.as_str()))
             .chain(self.events.iter().map(|e| e.location.as_str()))
-            .chain(self.event.iter().flat_map(event_texts))
             .chain(self.view.formats.iter().map(|(name, _)| name.as_str()))
-            .chain(self.view.selected.as_deref())
-            .chain(self.lesson.iter().flat_map(|l| {
-                std::iter::once(l.title.as_str()).chain(
-                    l.steps
-                        .iter()
-                        .flat_map(|s| s.checks.iter().map(String::as_str)),
-                )
-            }));
-        let step_texts = self.lesson.iter().flat_map(|l| &l.steps).map(|s| &s.text);
-        for text in step_texts {
-            let chars = text.chars().count();
-            if chars > limits::STEP_TEXT {
-                return Err(refuse(format!(
-                    "a lesson step of {chars} characters; at most {} are kept",
-                    limits::STEP_TEXT
-                )));
-            }
-        }
+            .chain(self.view.selected.as_deref());
         for text in texts {
             let chars = text.chars().count();
             if chars > limits::TEXT {
@@ -210,8 +198,53 @@ impl Session {
     }
 }
 
+impl Session {
+    /// Cut every text a user types (breakpoint conditions and log messages, watches, plot
+    /// labels, the lesson's title, checks and step texts, the status bar's saved event) to
+    /// the characters a session keeps: one limit for what is saved and what is read. Says what
+    /// was cut.
+    pub fn cut_long_texts(&mut self) -> Vec<String> {
+        let mut said = Vec::new();
+        let mut cut = |what: &str, text: &mut String, most: usize| {
+            if let Some((end, _)) = text.char_indices().nth(most) {
+                let chars = text.chars().count();
+                let start: String = text.chars().take(24).collect();
+                said.push(format!(
+                    "{what} of {chars} characters (\"{start}…\") was cut to the {most} a session keeps"
+                ));
+                text.truncate(end);
+            }
+        };
+        for b in &mut self.breakpoint_list {
+            cut("a breakpoint condition", &mut b.condition, limits::TEXT);
+            cut("a breakpoint's log message", &mut b.log, limits::TEXT);
+        }
+        for w in &mut self.watches {
+            cut("a watch", &mut w.expr, limits::TEXT);
+        }
+        for c in self.channels.iter_mut().flatten() {
+            cut("a plot label", &mut c.label, limits::TEXT);
+        }
+        if let Some(event) = &mut self.event {
+            for text in event_texts(event) {
+                cut("the status bar's event", text, limits::TEXT);
+            }
+        }
+        if let Some(lesson) = &mut self.lesson {
+            cut("the lesson's title", &mut lesson.title, limits::TEXT);
+            for step in &mut lesson.steps {
+                cut("a lesson step", &mut step.text, limits::STEP_TEXT);
+                for check in &mut step.checks {
+                    cut("a lesson check", check, limits::TEXT);
+                }
+            }
+        }
+        said
+    }
+}
+
 /// The texts a saved status-bar event carries.
-fn event_texts(event: &crate::debugger::Event) -> Vec<&str> {
+fn event_texts(event: &mut crate::debugger::Event) -> Vec<&mut String> {
     use crate::debugger::Event;
     match event {
         Event::Watchpoint {

@@ -102,9 +102,16 @@ pub struct Session {
     pub marks: Vec<SessionMark>,
     pub view: ViewSettings,
     /// The run had ended or faulted at `furthest`: restoring runs the instruction there again,
-    /// so the stop (its fault, flags and message) is restored too. Files from before this
-    /// field say so with a fault mark at `furthest`.
-    pub stopped: bool,
+    /// so the stop (its fault, flags and message) is restored too. Written as a plain bool;
+    /// `None` for a file from before this field, whose fault mark at `furthest` says so
+    /// (today's error-lamp stops leave such a mark on a run that goes on).
+    #[serde(with = "known_bool")]
+    pub stopped: Option<bool>,
+    /// `at` is the furthest position of a run that stopped there, and the debugger was paused
+    /// just before the stopping instruction (stepped up to a SilverLode fault, which leaves the
+    /// position where the instruction began), not at the stop.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub before_stop: bool,
     /// A lesson's title and steps (see [`crate::lesson`]); `None` for an ordinary session.
     /// Format-2 readers before it ignore the field and open the lesson as a session.
     pub lesson: Option<crate::lesson::Lesson>,
@@ -112,6 +119,19 @@ pub struct Session {
     /// past the furthest position): shown to the user, never saved.
     #[serde(skip)]
     pub warnings: Vec<String>,
+}
+
+/// A bool in the file, `None` when the file does not have the field.
+mod known_bool {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(value: &Option<bool>, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_bool(value.unwrap_or(false))
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<bool>, D::Error> {
+        bool::deserialize(d).map(Some)
+    }
 }
 
 /// Bounds on what a session file may ask for, far above anything servoscope writes: a number
@@ -261,7 +281,7 @@ struct Header {
 
 /// Why the existing file at `path` is not a session, if there is one that is not. Missing and
 /// empty files, and sessions of any format, are fine to replace.
-fn not_a_session(path: &Path) -> Option<String> {
+pub(crate) fn not_a_session(path: &Path) -> Option<String> {
     let path = crate::atomic::resolve(path).ok()?;
     let meta = std::fs::metadata(&path).ok()?;
     if meta.len() == 0 {
@@ -389,8 +409,14 @@ impl Session {
     }
 
     /// The files of the session's program that differ from the files on disk next to
-    /// `program_path` (or are missing there): the session's copies are the ones used.
-    pub fn changed_on_disk(&self) -> Vec<String> {
+    /// `program_path` (or are missing there): the session's copies are the ones used. A file
+    /// the session names outside the program's folder (and outside the folders `folders`
+    /// allows) is not read: a crafted session must not make servoscope read, or later write,
+    /// a file elsewhere; it counts as changed.
+    pub fn changed_on_disk(
+        &self,
+        folders: &crate::machine::project::IncludeFolders,
+    ) -> Vec<String> {
         let Some(top) = &self.program_path else {
             return Vec::new();
         };
@@ -404,12 +430,14 @@ impl Session {
             .enumerate()
             .filter(|(k, f)| {
                 let path = if *k == 0 {
-                    top.clone()
+                    Some(top.clone())
                 } else {
-                    dir.join(&f.name)
+                    folders.path_of(&dir, &f.name)
                 };
-                crate::text::read(&path)
-                    .map_or(true, |disk| disk != crate::text::normalize(&f.text))
+                path.is_none_or(|path| {
+                    crate::text::read(&path)
+                        .map_or(true, |disk| disk != crate::text::normalize(&f.text))
+                })
             })
             .map(|(_, f)| f.name.clone())
             .collect()

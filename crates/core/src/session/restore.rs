@@ -115,8 +115,12 @@ impl Session {
                 path: path.to_string(),
             });
         }
-        let fault_mark_at_end = self.marks.iter().any(|m| m.fault && m.at == furthest);
-        if self.stopped || fault_mark_at_end || !debugger.machine().run_state().is_live() {
+        let fault_mark_at_end =
+            self.stopped.is_none() && self.marks.iter().any(|m| m.fault && m.at == furthest);
+        if self.stopped == Some(true)
+            || fault_mark_at_end
+            || !debugger.machine().run_state().is_live()
+        {
             debugger.replay_stop();
         }
         debugger.restore_marks(self.marks.iter().map(|m| {
@@ -129,6 +133,8 @@ impl Session {
         }));
         if self.at < debugger.pos() {
             debugger.goto(self.at);
+        } else if self.before_stop && !debugger.machine().run_state().is_live() {
+            debugger.goto_live(self.at);
         }
         debugger.set_breakpoint_hits(&self.breakpoint_hits);
         if let Some(event) = &self.event {

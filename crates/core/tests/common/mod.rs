@@ -157,3 +157,16 @@ pub fn write(dir: &std::path::Path, name: &str, text: &str) {
     }
     std::fs::write(path, text).expect("write");
 }
+
+/// `command` with a home of its own (HOME and the XDG folders in a scratch folder): a process
+/// a test starts never reads or writes the user's preferences, recent files or data folders.
+pub fn with_scratch_home(command: &mut std::process::Command) -> &mut std::process::Command {
+    let home = std::env::temp_dir().join(format!("servoscope-home-{}", std::process::id()));
+    let _ = std::fs::create_dir_all(&home);
+    command
+        .env("HOME", &home)
+        .env("XDG_DATA_HOME", home.join(".local/share"))
+        .env("XDG_CONFIG_HOME", home.join(".config"))
+        .env("XDG_CACHE_HOME", home.join(".cache"))
+        .env("XDG_STATE_HOME", home.join(".local/state"))
+}

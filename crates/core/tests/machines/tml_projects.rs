@@ -517,7 +517,7 @@ fn a_session_of_a_project_keeps_every_file_and_breakpoints_by_file() {
     lines.sort_unstable();
     assert_eq!(lines, [4, Project::line(main, 15)]);
     assert!(
-        back.changed_on_disk().is_empty(),
+        back.changed_on_disk(&Default::default()).is_empty(),
         "the files on disk are the same"
     );
     // A file changed on disk: said, and the session's copy is used.
@@ -528,7 +528,7 @@ fn a_session_of_a_project_keeps_every_file_and_breakpoints_by_file() {
     write(&dir, "main.tml", "// changed\n");
     let mut moved = back.clone();
     moved.program_path = Some(dir.join("motion.tml"));
-    assert_eq!(moved.changed_on_disk(), ["main.tml"]);
+    assert_eq!(moved.changed_on_disk(&Default::default()), ["main.tml"]);
     assert_eq!(moved.restore("p.ron").expect("restores").pos(), at);
     // One file: still format 2, which older builds read.
     let single = Debugger::with_dialect(tml(), "a.tml", "int a; a = 1; END;");
@@ -623,4 +623,120 @@ fn tables_a_and_b_have_the_specs_types_addresses_and_access() {
         m.program.var_addresses(),
         [0x03B0, 0x03B2, 0x03B4, 0x03B6, 0x03B8]
     );
+}
+
+/// `f` on a thread of its own, given `seconds` before the test fails as a hang (a budget that
+/// ends the test, not a speed asserted: the bomb ran for minutes and 3 GB before).
+fn within<T: Send + 'static>(seconds: u64, f: impl FnOnce() -> T + Send + 'static) -> T {
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(f());
+    });
+    rx.recv_timeout(std::time::Duration::from_secs(seconds))
+        .expect("finished within its time budget")
+}
+
+#[test]
+fn an_include_bomb_stops_at_the_include_that_crosses_the_bound() {
+    // 16 small files, each including the next four times: 4^15 copies of the last one.
+    let dir = scratch_dir("bomb");
+    for k in 0..16 {
+        let text = if k == 15 {
+            "int a;\na = 1;\n".to_string()
+        } else {
+            format!("#include \"f{}.tml\"\n", k + 1).repeat(4)
+        };
+        write(&dir, &format!("f{k}.tml"), &text);
+    }
+    write(&dir, "top.tml", "#include \"f0.tml\"\nEND;\n");
+    let top = dir.join("top.tml");
+    let errors = within(120, move || {
+        let project = tml().load(&top).expect("reads");
+        assert_eq!(project.files.len(), 17, "each file read once");
+        match assemble_project(&project) {
+            Ok(_) => panic!("assembled 4^15 copies"),
+            Err(errors) => (project, errors),
+        }
+    });
+    let (project, errors) = errors;
+    let grows: Vec<_> = errors
+        .iter()
+        .filter(|d| d.message.contains("grows past"))
+        .collect();
+    assert_eq!(grows.len(), 1, "{errors:?}");
+    // At an `#include` line: the innermost one whose expansion crossed the bound.
+    let (file, line) = Project::split(grows[0].line);
+    let text = &project.files[file].text;
+    let at = text.lines().nth(line - 1).expect("the line");
+    assert!(at.starts_with("#include"), "{at}");
+    assert!(
+        grows[0].message.contains("1048575 lines"),
+        "{}",
+        grows[0].message
+    );
+    assert!(errors.len() < 100, "{} diagnostics", errors.len());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn includes_outside_the_programs_folder_are_not_read_and_never_quoted() {
+    let root = scratch_dir("outside");
+    write(&root, "secret.txt", "hunter2 is the password\n");
+    write(&root, "common/shared.tml", "int shared;\n");
+    let dir = root.join("student");
+    write(&dir, "lib/ok.tml", "int a;\n");
+    let secret = root.join("secret.txt");
+    let absolute = secret.display().to_string();
+    write(
+        &dir,
+        "top.tml",
+        &format!(
+            "#include \"lib/ok.tml\"\n#include \"../secret.txt\"\n#include \"{absolute}\"\n#include \"../common/shared.tml\"\nEND;\n"
+        ),
+    );
+    #[cfg(unix)]
+    std::os::unix::fs::symlink(&secret, dir.join("lib/link.tml")).expect("a link");
+    #[cfg(unix)]
+    write(&dir, "linked.tml", "#include \"lib/link.tml\"\nEND;\n");
+
+    let project = tml().load(&dir.join("top.tml")).expect("reads");
+    let names: Vec<&str> = project.files.iter().map(|f| f.name.as_str()).collect();
+    assert_eq!(
+        names,
+        ["top.tml", "lib/ok.tml"],
+        "only the folder's own files"
+    );
+    let errors = assemble_project(&project).expect_err("three includes refused");
+    let text: Vec<String> = errors.iter().map(|d| d.message.clone()).collect();
+    assert_eq!(
+        text.iter()
+            .filter(|m| m.contains("outside the program's folder"))
+            .count(),
+        3,
+        "{text:?}"
+    );
+    assert!(text.iter().all(|m| !m.contains("hunter2")), "{text:?}");
+    #[cfg(unix)]
+    {
+        // A link in the folder to a file outside it is outside.
+        let linked = tml().load(&dir.join("linked.tml")).expect("reads");
+        assert_eq!(linked.files.len(), 1);
+        let errors = assemble_project(&linked).expect_err("refused");
+        assert!(errors.iter().all(|d| !d.message.contains("hunter2")));
+    }
+    // A folder the user allows is read.
+    let allowed = servoscope_core::machine::project::IncludeFolders {
+        allowed: vec![root.join("common")],
+    };
+    let project = tml()
+        .load_with(&dir.join("top.tml"), &allowed)
+        .expect("reads");
+    assert!(
+        project
+            .files
+            .iter()
+            .any(|f| f.name == "../common/shared.tml")
+    );
+    assert!(!project.files.iter().any(|f| f.text.contains("hunter2")));
+    let _ = std::fs::remove_dir_all(&root);
 }

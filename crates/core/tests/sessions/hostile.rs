@@ -156,9 +156,10 @@ fn counts_and_texts_beyond_reason_are_refused_clearly() {
     let channels: Vec<String> = (0..9).map(|i| format!("(location: \"R{i}\")")).collect();
     let cases = [
         session_text(&format!("channels: Some([{}])", channels.join(", "))),
+        // A name comes from the program: cut, it would name something else.
         session_text(&format!(
-            "watches: [(expr: \"{}\")]",
-            "R1+".repeat(2_000) + "1"
+            "events: [(at: (tick: 1), location: \"{}\", change: Set(1))]",
+            "R".repeat(5_000)
         )),
         session_text(&format!("breakpoints: [{}]", vec!["1"; 10_001].join(", "))),
     ];
@@ -170,6 +171,52 @@ fn counts_and_texts_beyond_reason_are_refused_clearly() {
             other => panic!("{:?}", other.map(|_| ())),
         }
     }
+}
+
+#[test]
+fn a_long_typed_text_saved_by_an_older_build_opens_cut_with_a_warning() {
+    // Builds before the one limit saved what they took: a watch, a condition, a log message,
+    // a lesson check over 4,096 characters.
+    let long = "R1+".repeat(2_000) + "1";
+    let text = session_text(&format!(
+        "watches: [(expr: \"{long}\")], breakpoint_list: [(kind: Line(1), condition: \"{long}\", log: \"{long}\")], \
+         lesson: Some((title: \"t\", steps: [(text: \"s\", checks: [\"{long}\"])]))"
+    ));
+    let session = Session::from_ron(&text, "old.ron").expect("opens");
+    let most = servoscope_core::session::limits::TEXT;
+    assert_eq!(session.watches[0].expr.chars().count(), most);
+    assert!(long.starts_with(&session.watches[0].expr), "the start kept");
+    assert_eq!(session.breakpoint_list[0].condition.chars().count(), most);
+    assert_eq!(session.breakpoint_list[0].log.chars().count(), most);
+    let lesson = session.lesson.as_ref().expect("a lesson");
+    assert_eq!(lesson.steps[0].checks[0].chars().count(), most);
+    assert_eq!(session.warnings.len(), 4, "{:?}", session.warnings);
+    assert!(
+        session.warnings[0].contains("6001 characters") && session.warnings[0].contains("4096"),
+        "{}",
+        session.warnings[0]
+    );
+    // Saved again, it reads back as it is, with nothing more to cut.
+    let again = Session::from_ron(&session.to_ron().expect("encodes"), "again.ron").expect("opens");
+    assert!(again.warnings.is_empty(), "{:?}", again.warnings);
+    assert_eq!(again.watches, session.watches);
+}
+
+#[test]
+fn what_the_window_saves_reads_back_whatever_was_typed() {
+    // A watch typed through the API (the window's field stops at the limit) is cut when the
+    // session is captured, so save never writes what load would refuse or change.
+    let mut d = debugger(registry::default_dialect());
+    d.add_watch("R1+".repeat(3_000) + "1", Format::Signed);
+    let text = Session::capture(&d, None, ViewSettings::default())
+        .to_ron()
+        .expect("encodes");
+    let back = Session::from_ron(&text, "w.ron").expect("opens");
+    assert!(back.warnings.is_empty(), "{:?}", back.warnings);
+    assert_eq!(
+        back.watches[0].expr.chars().count(),
+        servoscope_core::session::limits::TEXT
+    );
 }
 
 // ---- 3. edits are checked against the location --------------------------------------------

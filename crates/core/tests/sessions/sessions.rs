@@ -331,3 +331,85 @@ fn a_reopened_session_keeps_hit_counts_and_the_status() {
     assert_eq!(reopened.pos(), d.pos());
     assert_eq!(reopened.breakpoint_hits(0), 4);
 }
+
+/// The session of `d` saved and reopened.
+fn reopened(d: &Debugger) -> Debugger {
+    let text = Session::capture(d, None, ViewSettings::default())
+        .to_ron()
+        .expect("encodes");
+    Session::from_ron(&text, "s.ron")
+        .and_then(|s| s.restore("s.ron"))
+        .expect("reopens")
+}
+
+/// The reopened debugger is the original: state, position, history's end and marks.
+fn assert_same_moment(what: &str, d: &Debugger, r: &Debugger) {
+    let (a, b) = (d.machine(), r.machine());
+    assert_eq!(b.run_state(), a.run_state(), "{what}: run state");
+    assert_eq!(
+        (b.pos(), b.steps(), b.pc_line()),
+        (a.pos(), a.steps(), a.pc_line()),
+        "{what}: position"
+    );
+    assert_eq!(
+        common::every_value(b),
+        common::every_value(a),
+        "{what}: every location, status words included"
+    );
+    assert_eq!(r.furthest(), d.furthest(), "{what}: furthest");
+    assert_eq!(
+        r.stopped_at_furthest(),
+        d.stopped_at_furthest(),
+        "{what}: stopped"
+    );
+    assert_eq!(r.marks(), d.marks(), "{what}: marks");
+}
+
+fn run_out(d: &mut Debugger) {
+    d.set_speed(Speed::Unlimited);
+    d.run();
+    for _ in 0..10_000 {
+        if !d.advance(0.016, Duration::from_millis(200)) {
+            break;
+        }
+    }
+}
+
+#[test]
+fn paused_just_before_a_ret_that_faults_reopens_running() {
+    // A RET with nothing to return to faults where it began (PSW bit 12, command error); the
+    // user stepped back up to it and paused there, before it runs.
+    let mut d = common::debugger("silverlode", "WRP 11, 1\nRET\n");
+    run_out(&mut d);
+    assert_eq!(d.machine().run_state(), RunState::Faulted);
+    d.goto_tick(0);
+    d.step_command();
+    assert_eq!(d.pos(), d.furthest(), "at the RET, the history's end");
+    assert_eq!(d.machine().run_state(), RunState::Running);
+    assert!(d.stopped_at_furthest());
+    assert_same_moment("silverlode", &d, &reopened(&d));
+}
+
+#[test]
+fn a_run_stopped_by_break_on_error_reopens_with_the_same_furthest_in_every_dialect() {
+    // Each program sets its dialect's error flag and goes on (break_on_error_flags_in_every_
+    // dialect): the stop is live, with a fault mark at the history's end.
+    for (dialect, source) in [
+        (
+            "silverlode",
+            "CER handler\nWRP 10, 0\nCLC DIV, 10\nWRP 11, 1\nEND\nhandler: END\n",
+        ),
+        (
+            "tml",
+            "int a;\n        a = 1;\n        UPD;\n        a = 2;\n        END;\n",
+        ),
+        ("dl205", "STR SP1\nLD K4\nDIV V2002\nOUT V2000\nEND\n"),
+        ("opennet", "LODN M0\nDIV(W) 5 0 D0\nMOV(W) 1 D1\nEND\n"),
+    ] {
+        let mut d = common::debugger(dialect, source);
+        d.set_break_on_error(true);
+        run_out(&mut d);
+        assert!(d.machine().error_lamp(), "{dialect}: stopped on the error");
+        assert_same_moment(dialect, &d, &reopened(&d));
+    }
+}

@@ -55,8 +55,20 @@ impl<M: Machine> Timeline<M> {
         )
     }
 
-    /// Rebuild the state at `pos` (at most the furthest position reached).
+    /// Rebuild the state at `pos` (at most the furthest position reached); at the furthest
+    /// position of a run that stopped there, the stop itself.
     pub fn goto(&mut self, pos: Pos) {
+        let pos = pos.min(self.furthest);
+        self.goto_live(pos);
+        if pos == self.furthest && self.stopped && self.machine.run_state().is_live() {
+            self.rerun_stop();
+        }
+    }
+
+    /// Rebuild the state at `pos` as a run arrives there: at the furthest position of a run
+    /// that stopped there, the moment before the stopping instruction (where stepping up to a
+    /// SilverLode fault pauses, the fault not having moved the position).
+    pub fn goto_live(&mut self, pos: Pos) {
         let pos = pos.min(self.furthest);
         let i = self
             .checkpoints
@@ -64,9 +76,38 @@ impl<M: Machine> Timeline<M> {
             .saturating_sub(1);
         self.restore(i);
         self.rerun(pos, |_| false);
-        if pos == self.furthest && self.stopped && self.machine.run_state().is_live() {
-            self.rerun_stop();
+    }
+
+    /// At the furthest position: run the instruction there if it ends or faults the run (tried
+    /// on a copy first, so a run that goes on records nothing and `furthest` stays), recording
+    /// the stop as running forward does. True when the machine is stopped.
+    pub fn run_into_stop(&mut self) -> bool {
+        if !self.machine.run_state().is_live() {
+            return true;
         }
+        let at = self.machine.pos();
+        if at != self.furthest {
+            return false;
+        }
+        let next = Pos {
+            tick: at.tick,
+            step: at.step.saturating_add(1),
+        };
+        let mut probe = self.machine.clone();
+        let mut next_event = self.next_event;
+        replay(
+            &mut probe,
+            &self.events,
+            &mut next_event,
+            next,
+            |_| false,
+            |_, _| {},
+        );
+        if probe.run_state().is_live() {
+            return false;
+        }
+        self.forward(next, |_| false);
+        !self.machine.run_state().is_live()
     }
 
     /// At the furthest position of a run that stopped there: run the instruction that ended or

@@ -16,6 +16,17 @@ impl Debugger {
         self.goto(Pos::at_tick(tick));
     }
 
+    /// Go to `pos` as a run arrives there: at the furthest position of a run that stopped
+    /// there, the moment before the stopping instruction rather than the stop (a restored
+    /// session paused there). Elsewhere the same as [`Debugger::goto`].
+    pub fn goto_live(&mut self, pos: Pos) {
+        self.goal = None;
+        if self.has_errors() || self.is_edited() {
+            return;
+        }
+        self.engine.goto_live(pos.min(self.furthest()));
+    }
+
     /// Go to any position, inside a tick too.
     pub fn goto(&mut self, pos: Pos) {
         self.goal = None;

@@ -93,18 +93,84 @@ pub fn includes(text: &str) -> Vec<String> {
         .collect()
 }
 
-/// The lines of file `file` with its includes expanded in place (spec §1.1), appended to `out`.
+/// The most characters a program may have with its includes expanded: as many as the largest
+/// file servoscope opens, so a tree of small files that include each other many times (4
+/// includes a level, 15 levels: 4^15 copies) stops with an error instead of filling memory.
+pub const MAX_EXPANDED_CHARS: usize = crate::text::MAX_FILE_BYTES;
+/// The most lines (and diagnostics, which a repeated file repeats too) of an expanded program.
+pub const MAX_EXPANDED_LINES: usize = crate::machine::project::FILE_LINES - 1;
+
+/// What is left of the expanded program's size, and whether it ran out.
+pub(super) struct Budget {
+    chars: usize,
+    lines: usize,
+    /// Ran out: nothing more is expanded; `reported` once the error is at its `#include`.
+    exhausted: bool,
+    reported: bool,
+}
+
+impl Default for Budget {
+    fn default() -> Self {
+        Budget {
+            chars: MAX_EXPANDED_CHARS,
+            lines: MAX_EXPANDED_LINES,
+            exhausted: false,
+            reported: false,
+        }
+    }
+}
+
+impl Budget {
+    /// Take one line of `chars` characters; false (and exhausted) when it does not fit.
+    fn take(&mut self, chars: usize) -> bool {
+        if self.exhausted || self.lines == 0 || self.chars < chars {
+            self.exhausted = true;
+            return false;
+        }
+        self.lines -= 1;
+        self.chars -= chars;
+        true
+    }
+
+    fn too_large(line: usize, col: usize, len: usize) -> Diagnostic {
+        Diagnostic::error(
+            line,
+            col,
+            len,
+            format!(
+                "with its included files the program grows past {MAX_EXPANDED_LINES} lines or {MAX_EXPANDED_CHARS} characters here (do files include each other many times?); servoscope assembles at most that"
+            ),
+        )
+    }
+}
+
+/// The lines of file `file` with its includes expanded in place (spec §1.1), appended to `out`,
+/// within `budget`: the `#include` whose expansion crosses it gets the error and expansion stops.
 pub(super) fn expand(
     project: &Project,
     file: usize,
     chain: &mut Vec<usize>,
     out: &mut Vec<SourceLine>,
     errors: &mut Vec<Diagnostic>,
+    budget: &mut Budget,
 ) {
     let text = crate::text::normalize(&project.files[file].text);
     chain.push(file);
     for (i, l) in text.lines().enumerate() {
         let line = Project::line(file, i + 1);
+        if budget.exhausted {
+            break;
+        }
+        // A line, and a diagnostic too (a file included many times repeats its errors), takes
+        // from the budget; the `#include` being expanded reports running out, or else the top
+        // file's own line does.
+        if !budget.take(l.len()) {
+            if chain.len() == 1 && !budget.reported {
+                budget.reported = true;
+                errors.push(Budget::too_large(line, 1, l.chars().count().max(1)));
+            }
+            break;
+        }
         if i + 1 >= crate::machine::project::FILE_LINES {
             errors.push(Diagnostic::error(
                 line,
@@ -130,7 +196,13 @@ pub(super) fn expand(
                         line,
                         col,
                         len,
-                        format!("cannot open included file '{path}'"),
+                        if crate::machine::project::outside_top_folder(&name) {
+                            format!(
+                                "cannot open included file '{path}': it is outside the program's folder, and servoscope reads included files only from the top file's folder and its subfolders unless you allow another folder (--include-dir DIR, or Include folders in the window's settings)"
+                            )
+                        } else {
+                            format!("cannot open included file '{path}'")
+                        },
                     ));
                     continue;
                 };
@@ -161,7 +233,11 @@ pub(super) fn expand(
                     ));
                     continue;
                 }
-                expand(project, target, chain, out, errors);
+                expand(project, target, chain, out, errors, budget);
+                if budget.exhausted && !budget.reported {
+                    budget.reported = true;
+                    errors.push(Budget::too_large(line, col, len));
+                }
             }
         }
     }

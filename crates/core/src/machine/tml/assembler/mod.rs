@@ -205,7 +205,14 @@ pub fn assemble_project(project: &Project) -> Result<Program, Vec<Diagnostic>> {
     let mut errors: Vec<Diagnostic> = Vec::new();
     let mut lines: Vec<SourceLine> = Vec::new();
     if !project.files.is_empty() {
-        expand(project, 0, &mut Vec::new(), &mut lines, &mut errors);
+        expand(
+            project,
+            0,
+            &mut Vec::new(),
+            &mut lines,
+            &mut errors,
+            &mut include::Budget::default(),
+        );
     }
     let describe = |line: usize| {
         if project.is_multi() {
