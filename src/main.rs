@@ -300,7 +300,10 @@ fn run(args: &RunArgs) -> Result<u8, String> {
     let (dialect, max_ticks, json) = (dialect.as_deref(), *max_ticks, *json);
     let start = read_start(file, dialect, &includes.folders())?;
     let read_files = start.inputs(file);
-    if let Some(path) = trace {
+    let streamed = trace.as_deref().is_some_and(is_stream);
+    if let Some(path) = trace
+        && !streamed
+    {
         output::may_write(path, Output::Trace, &read_files, *overwrite).map_err(refused)?;
     }
     if let Some(path) = save_session {
@@ -376,6 +379,20 @@ fn run(args: &RunArgs) -> Result<u8, String> {
             runner::run_engine_probed(engine.as_ref(), &events, max_ticks, &start.project, probe)
         };
         match trace {
+            // A pipe or a terminal (`--trace /dev/stdout`, `>(jq …)`) is written as the run
+            // goes: there is nothing there to keep.
+            Some(path) if streamed => {
+                let file = std::fs::OpenOptions::new()
+                    .write(true)
+                    .open(path)
+                    .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+                let mut writer = std::io::BufWriter::new(file);
+                let (done, broke, error) = run_probed(Some(&mut writer));
+                error
+                    .map_or_else(|| writer.flush(), Err)
+                    .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+                (done, broke)
+            }
             // Written atomically: a failed run or write leaves whatever was there before.
             Some(path) => {
                 let mut ran = None;
@@ -465,6 +482,24 @@ fn open_engine(
             }
             Err(diagnostics)
         }
+    }
+}
+
+/// Whether `path` is a pipe or a character device (a terminal, `/dev/stdout`): written as a
+/// stream, not replaced.
+fn is_stream(path: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        std::fs::metadata(path).is_ok_and(|m| {
+            let kind = m.file_type();
+            kind.is_fifo() || kind.is_char_device()
+        })
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = path;
+        false
     }
 }
 

@@ -421,6 +421,19 @@ impl ServoscopeApp {
             path
         };
         let path = std::path::absolute(&path).unwrap_or(path);
+        // Never over the program's own files, whatever the user confirms.
+        if let Some(top) = &self.path {
+            let inputs = servoscope_core::output::program_inputs(top, self.debugger.project());
+            let kind = servoscope_core::output::Output::Session;
+            if let Err(e) = servoscope_core::output::may_write(&path, kind, &inputs, true) {
+                self.confirm_replace = None;
+                self.file_failed(
+                    files::Purpose::SaveSession,
+                    format!("{e}: choose another name"),
+                );
+                return;
+            }
+        }
         let session = self.session();
         let saved = if replace {
             session.save_over(&path)

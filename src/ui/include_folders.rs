@@ -26,6 +26,9 @@ pub fn window(
     }
     let mut open = true;
     egui::Window::new("Include folders")
+        // In the middle, not over the program's tabs it is about.
+        .pivot(egui::Align2::CENTER_CENTER)
+        .default_pos(ctx.content_rect().center())
         .collapsible(false)
         .resizable(false)
         .open(&mut open)

@@ -121,9 +121,25 @@ fn no_output_replaces_the_program_or_a_file_that_is_not_its_kind() {
             String::from_utf8_lossy(&out.stderr)
         );
     }
-    // Through a link in the folder to a file outside it: the file is what counts.
+    // A stream (a device, a pipe) is written as the run goes, and stays what it is.
+    let out = servoscope(&["run", p, "--trace", "/dev/null"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(!std::fs::metadata("/dev/null").expect("exists").is_file());
+    // Through a link in the folder to a file outside it: the file is what counts; a link to
+    // nothing is refused (the write would create a file wherever it points).
     #[cfg(unix)]
     {
+        let nowhere = dir.join("nowhere.svg");
+        std::os::unix::fs::symlink(dir.join("missing/elsewhere.svg"), &nowhere).expect("a link");
+        let out = servoscope(&["ladder", p, "--svg", &s(&nowhere), "--overwrite"]);
+        assert_eq!(out.status.code(), Some(2));
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains("link to a file that does not exist")
+        );
         let outside = folder("outputs-outside").join("keep.txt");
         std::fs::write(&outside, "keep me\n").expect("written");
         let link = dir.join("out.svg");

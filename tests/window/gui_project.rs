@@ -328,7 +328,10 @@ fn an_include_outside_the_folder_is_read_only_from_a_folder_the_user_allows() {
     h.run_steps(2);
     h.get_by_label("Allow").click();
     h.run_steps(3);
-    assert_eq!(h.state().prefs.include_folders, [shared.clone()]);
+    assert_eq!(
+        h.state().prefs.include_folders,
+        std::slice::from_ref(&shared)
+    );
     // The file is read at once and the program assembles.
     let names: Vec<String> = (h.state().debugger.project().files.iter())
         .map(|f| f.name.clone())

@@ -2,8 +2,10 @@
 //! replace the program with its drawing. Every output file (a ladder SVG, a trace, a log, a
 //! session) follows one rule: never a file the command read; and an existing file that is not
 //! this kind of output (a program, a session, anything else) only when the user says so
-//! (`--overwrite`, or a confirmation in the window). Symbolic links are followed first, so a
-//! link cannot smuggle a write past the rule. The write itself is atomic ([`crate::atomic`]).
+//! (`--overwrite`; the window's exports refuse and keep their dialog open). Symbolic links are
+//! followed first, so a link cannot smuggle a write past the rule, and a link to nothing is
+//! refused (it would create a file wherever it points). The write itself is atomic
+//! ([`crate::atomic`]).
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -44,13 +46,9 @@ impl Output {
             Output::LadderSvg => {
                 head.trim_start().starts_with("<svg") && head.contains(LADDER_SVG_MARK)
             }
-            Output::Trace => head.lines().next().is_some_and(|first| {
-                serde_json::from_str::<serde_json::Value>(first).is_ok_and(|v| {
-                    ["n", "tick", "step", "mnemonic"]
-                        .iter()
-                        .all(|key| v.get(key).is_some())
-                })
-            }),
+            // Each line an object whose first key is the instruction count (a first line may
+            // be longer than the head read, so its start is what counts).
+            Output::Trace => head.starts_with("{\"n\":") && head.contains("\"mnemonic\":"),
             Output::LogCsv => head.lines().next() == Some(LOG_CSV_HEADER),
             Output::PlotCsv => head.starts_with("tick,time_ms"),
             Output::Session => crate::session::not_a_session(path).is_none(),
@@ -107,6 +105,12 @@ pub fn may_write(
         reason: e.to_string(),
     })?;
     let Ok(meta) = std::fs::metadata(&real) else {
+        if std::fs::symlink_metadata(target).is_ok_and(|m| m.file_type().is_symlink()) {
+            return Err(Refusal::Unwritable {
+                path: shown,
+                reason: "it is a link to a file that does not exist; servoscope creates no file through a link".to_string(),
+            });
+        }
         return Ok(());
     };
     if let Some(input) = inputs.iter().find(|i| same_file(&real, &i.path)) {

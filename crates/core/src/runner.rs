@@ -377,10 +377,11 @@ pub fn run_engine(engine: &dyn Engine, events: &[UserEvent], max_ticks: u64) -> 
 }
 
 /// [`run_engine`] within a wall-clock budget, for a grading loop that must always finish: the
-/// run goes in slices of ticks and stops after the first slice that ends past `deadline`.
-/// Returns the run and whether it got to `max_ticks` (or the program stopped). The slices end
-/// on tick boundaries, where a straight run passes too, so a run that finishes is the
-/// straight run exactly; only pacing lives here, never inside the machine.
+/// clock is read every few thousand instruction boundaries (a scan that turns slow half-way,
+/// or one long scan, cannot outrun it), and the run stops at the first boundary past
+/// `deadline`. Returns the run and whether it got to `max_ticks` or the program stopped. One
+/// run from the start, events applied as a straight run applies them: only pacing lives
+/// here, never inside the machine.
 pub fn run_engine_until(
     engine: &dyn Engine,
     events: &[UserEvent],
@@ -388,24 +389,16 @@ pub fn run_engine_until(
     deadline: std::time::Instant,
 ) -> (Box<dyn Engine>, bool) {
     let mut run = engine.restarted(Vec::new(), Vec::new());
-    // Slices grow while they are quick, so a fast machine is not slowed by the clock.
-    let mut slice: u64 = 1 << 10;
-    loop {
-        let before = run.machine().pos();
-        let to = before.tick.saturating_add(slice).min(max_ticks);
-        let started = std::time::Instant::now();
-        run.run_headless(events, to);
-        if to >= max_ticks || run.machine().pos() == before {
-            return (run, true);
-        }
-        if std::time::Instant::now() >= deadline {
-            return (run, false);
-        }
-        if started.elapsed() < std::time::Duration::from_millis(20) {
-            slice = slice.saturating_mul(2).min(1 << 24);
-        }
-    }
+    let mut boundaries: u32 = 0;
+    let reason = run.run_headless_observed(events, max_ticks, &mut |_| {
+        boundaries = boundaries.wrapping_add(1);
+        boundaries.is_multiple_of(CLOCK_EVERY) && std::time::Instant::now() >= deadline
+    });
+    (run, reason != StopReason::Predicate)
 }
+
+/// Instruction boundaries between two readings of the clock in [`run_engine_until`].
+const CLOCK_EVERY: u32 = 4096;
 
 /// The file of `line` as `"file"`, for a program of several files.
 fn insert_file(out: &mut JsonMap, files: Option<&Project>, line: Option<usize>) {

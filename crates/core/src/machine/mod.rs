@@ -425,8 +425,11 @@ impl dyn MachineView {
 /// What a scanned PLC shows and allows besides the common face: the program as a ladder with
 /// its power flow, and forcing. Reached by [`MachineView::as_plc`].
 pub trait PlcView {
-    /// The program as a ladder diagram, built once when it was assembled.
+    /// The program as a ladder diagram, laid out the first time it is asked for.
     fn ladder(&self) -> std::sync::Arc<plc::ladder::Ladder>;
+    /// The rungs and their elements, wired but not laid out: for what reads operands and
+    /// comments without drawing (the I/O board), so it never pays for a layout.
+    fn wiring(&self) -> std::sync::Arc<plc::ladder::Ladder>;
     /// Whether the contact-like element of instruction `index` conducts now: a normally-open
     /// contact whose bit is on, a normally-closed one whose bit is off, a compare that holds, an
     /// edge that fired in this scan.

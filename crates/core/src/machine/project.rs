@@ -281,17 +281,25 @@ impl IncludeFolders {
     /// Where the program file named `name` (a name of [`resolve_include`]) of a program whose
     /// top file is in `dir` is on disk, if the rule lets servoscope read or write it there.
     pub fn path_of(&self, dir: &Path, name: &str) -> Option<PathBuf> {
-        let on_disk = if Path::new(name).is_absolute() {
-            PathBuf::from(name)
+        let name = name.replace('\\', "/");
+        let on_disk = if Path::new(&name).is_absolute() {
+            PathBuf::from(&name)
         } else {
-            dir.join(name)
+            dir.join(&name)
         };
-        // A file not there yet may be written only inside the folder itself: its name must
-        // not climb out of it.
-        if !on_disk.exists() {
-            return (!outside_top_folder(name)).then_some(on_disk);
+        // A file not there yet (Save program writes it): its nearest folder that exists must
+        // be allowed, links followed, and what is below it plain names, never `..`.
+        let mut existing = on_disk.as_path();
+        while !existing.exists() {
+            existing.file_name()?;
+            existing = existing.parent()?;
         }
-        self.permit(dir, &on_disk).then_some(on_disk)
+        let existing = if existing.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            existing
+        };
+        self.permit(dir, existing).then_some(on_disk)
     }
 }
 
@@ -313,9 +321,6 @@ pub fn read_included(dir: &Path, wanted: &str, folders: &IncludeFolders) -> Opti
     } else {
         dir.join(wanted)
     };
-    if outside_top_folder(wanted) && folders.allowed.is_empty() {
-        return None;
-    }
     let found = find_on_disk(&on_disk)?;
     if !folders.permit(dir, &found) {
         return None;
@@ -386,6 +391,42 @@ mod tests {
             "../common/x.tml"
         );
         assert_eq!(resolve_include("main.tml", "/abs/p.tml"), "/abs/p.tml");
+    }
+
+    #[test]
+    fn a_file_is_written_only_inside_the_top_folder_whatever_its_name() {
+        let root = std::env::temp_dir().join(format!("servoscope-path-of-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&root);
+        let dir = root.join("prog");
+        std::fs::create_dir_all(dir.join("lib")).expect("folders");
+        std::fs::write(dir.join("lib/a.tml"), "").expect("a file");
+        let none = IncludeFolders::default();
+        // Inside, there or not yet.
+        assert!(none.path_of(&dir, "lib/a.tml").is_some());
+        assert!(none.path_of(&dir, "lib/new.tml").is_some());
+        assert!(none.path_of(&dir, "new/deeper/b.tml").is_some());
+        // Out, however spelled (a crafted session names the files Save program writes).
+        for name in [
+            "../evil.tml",
+            "./../evil.tml",
+            "x/../../evil.tml",
+            "lib/../../evil.tml",
+            "..\\evil.tml",
+            "/tmp/evil.tml",
+        ] {
+            assert_eq!(none.path_of(&dir, name), None, "{name}");
+        }
+        #[cfg(unix)]
+        {
+            std::os::unix::fs::symlink(&root, dir.join("out")).expect("a link");
+            assert_eq!(none.path_of(&dir, "out/new.tml"), None, "through a link");
+        }
+        // An allowed folder is as good as the top one.
+        let shared = IncludeFolders {
+            allowed: vec![root.clone()],
+        };
+        assert!(shared.path_of(&dir, "../evil.tml").is_some());
+        let _ = std::fs::remove_dir_all(&root);
     }
 
     #[test]

@@ -224,3 +224,60 @@ fn a_lesson_written_in_code_round_trips() {
         Some(lesson)
     );
 }
+
+#[test]
+fn a_grading_budget_stops_even_inside_one_long_scan() {
+    // One scan of 9999 × 100 instructions: the clock is read between instructions, not only
+    // between scans (a program cheap at first and slow later cannot outrun it).
+    let body = "STR SP1\nINCB V0\n".repeat(50);
+    let source = format!("STR SP1\nFOR K9999\n{body}NEXT\nEND\n");
+    let d = servoscope_core::registry::by_name("dl205").expect("registered");
+    let engine = d
+        .open_text(&source, &d.default_settings())
+        .expect("assembles");
+    let (run, finished) = servoscope_core::runner::run_engine_until(
+        engine.as_ref(),
+        &[],
+        10,
+        std::time::Instant::now(),
+    );
+    assert!(!finished);
+    assert_eq!(run.machine().ticks(), 0, "stopped inside the first scan");
+    assert!(
+        run.machine().steps() < 100_000,
+        "{} steps",
+        run.machine().steps()
+    );
+    // Given the time, the same call is the straight run exactly.
+    let (run, finished) = servoscope_core::runner::run_engine_until(
+        engine.as_ref(),
+        &[],
+        3,
+        std::time::Instant::now() + std::time::Duration::from_secs(3600),
+    );
+    assert!(finished);
+    let straight = servoscope_core::runner::run_engine(engine.as_ref(), &[], 3);
+    assert_eq!(
+        crate::common::every_value(run.machine()),
+        crate::common::every_value(straight.machine())
+    );
+}
+
+#[test]
+fn a_lessons_tick_limit_past_the_bound_is_cut_with_a_warning() {
+    let text = "(format: 2, dialect: \"dl205\", program: \"STR X0\\nOUT Y0\\nEND\", \
+                lesson: Some((title: \"t\", steps: [(text: \"s\", checks: [\"Y0 == 0\"])], max_ticks: Some(1000000000))))";
+    let session = servoscope_core::session::Session::from_ron(text, "l.ron").expect("opens");
+    let lesson = session.lesson.as_ref().expect("a lesson");
+    assert_eq!(
+        lesson.max_ticks,
+        Some(servoscope_core::lesson::MAX_LESSON_TICKS)
+    );
+    assert!(
+        session.warnings.iter().any(|w| w.contains("1000000000")),
+        "{:?}",
+        session.warnings
+    );
+    let ticks = servoscope_core::lesson::grading_ticks(lesson, Some(u64::MAX), session.dialect());
+    assert_eq!(ticks, servoscope_core::lesson::MAX_LESSON_TICKS);
+}

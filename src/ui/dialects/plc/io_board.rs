@@ -33,7 +33,7 @@ pub struct IoBoard {
 fn labels(debugger: &Debugger) -> std::collections::HashMap<Loc, String> {
     let m = debugger.machine();
     let mut out = std::collections::HashMap::new();
-    let Some(ladder) = servoscope_core::machine::plc::ladder::with_comments(
+    let Some(ladder) = servoscope_core::machine::plc::ladder::wiring_with_comments(
         m,
         debugger.source(),
         debugger.dialect().classify,
@@ -63,7 +63,7 @@ fn groups(m: &dyn MachineView) -> Vec<(String, Vec<Loc>)> {
     let used = m.used();
     let named: Vec<String> = m
         .as_plc()
-        .map(|plc| plc.ladder())
+        .map(|plc| plc.wiring())
         .map(|l| {
             l.rungs
                 .iter()

@@ -295,13 +295,12 @@ impl RungDrawing<'_> {
         }
         // Too large to draw: its note, which names its lines, in its place.
         if let Some(why) = &rung.oversized {
-            let shown = painter.text(
-                pos2(rail_x, top + g.at(4.0)),
-                Align2::LEFT_TOP,
-                why,
-                g.mono(11.0),
-                self.ink.comment,
-            );
+            // Wrapped to what the panel shows, not to the (narrow) drawn rungs.
+            let wrap = (ui.clip_rect().right() - rail_x - g.at(8.0)).max(g.at(200.0));
+            let galley = painter.layout(why.clone(), g.mono(11.0), self.ink.comment, wrap);
+            let at = pos2(rail_x, top + g.at(4.0));
+            let shown = Rect::from_min_size(at, galley.size());
+            painter.galley(at, galley, self.ink.comment);
             ui.interact(
                 shown,
                 ui.scope_id().with(("oversized", self.index)),

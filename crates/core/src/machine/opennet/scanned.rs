@@ -25,6 +25,9 @@ impl ScannedPlc for OpenNet {
     fn diagram(&self) -> std::sync::Arc<crate::machine::plc::ladder::Ladder> {
         self.program.diagram.of(&self.program.ladder)
     }
+    fn wired(&self) -> std::sync::Arc<crate::machine::plc::ladder::Ladder> {
+        self.program.ladder.clone()
+    }
     fn conducts(&self, index: usize) -> bool {
         OpenNet::conducts(self, index)
     }

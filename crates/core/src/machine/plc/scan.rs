@@ -24,8 +24,10 @@ pub trait ScannedPlc: MachineView + Clone + PartialEq {
     fn instruction_line(&self, index: usize) -> usize;
     /// Every location a scan may write (a superset of what `note_writes` notes over a scan).
     fn scan_writes(&self) -> WriteSet;
-    /// The program as a ladder, built when it was assembled.
+    /// The program as a ladder, laid out on first use.
     fn diagram(&self) -> Arc<Ladder>;
+    /// The program's rungs, wired when it was assembled, not laid out.
+    fn wired(&self) -> Arc<Ladder>;
     /// Whether the contact-like element of instruction `index` conducts now.
     fn conducts(&self, index: usize) -> bool;
     /// Rung power per source line at this point of the scan.
@@ -183,6 +185,9 @@ pub fn run_scans<P: ScannedPlc, F: FnMut(&P) -> bool, O: FnMut(&P)>(
 impl<P: ScannedPlc> PlcView for P {
     fn ladder(&self) -> Arc<Ladder> {
         self.diagram()
+    }
+    fn wiring(&self) -> Arc<Ladder> {
+        self.wired()
     }
     fn ladder_conducts(&self, index: usize) -> bool {
         self.conducts(index)

@@ -77,7 +77,25 @@ pub fn with_comments(
     source: &str,
     classify: fn(&str) -> Vec<crate::machine::dialect::TokenClass>,
 ) -> Option<Ladder> {
-    let mut ladder = (*m.as_plc()?.ladder()).clone();
+    commented((*m.as_plc()?.ladder()).clone(), m, source, classify)
+}
+
+/// The machine's rungs, not laid out, with the comments of `source` attached: for what reads
+/// comments without drawing.
+pub fn wiring_with_comments(
+    m: &dyn crate::machine::MachineView,
+    source: &str,
+    classify: fn(&str) -> Vec<crate::machine::dialect::TokenClass>,
+) -> Option<Ladder> {
+    commented((*m.as_plc()?.wiring()).clone(), m, source, classify)
+}
+
+fn commented(
+    mut ladder: Ladder,
+    m: &dyn crate::machine::MachineView,
+    source: &str,
+    classify: fn(&str) -> Vec<crate::machine::dialect::TokenClass>,
+) -> Option<Ladder> {
     ladder.attach_comments(source, |line| comment_of(classify, line));
     // An element without a comment of its own shows the program's documentation of its bit
     // (a DirectSOFT nickname).

@@ -3,6 +3,9 @@
 
 use super::{Filler, MAX_RUNG_COLUMNS, MAX_RUNG_ROWS, NodeId, RAIL, Rung, Vertical};
 
+/// The rows an oversized rung's note takes.
+const OVERSIZED_ROWS: u16 = 2;
+
 /// Cells the row search may look at in one rung: far past any rung that fits the bounds as
 /// people draw them, so only a pathological shape gives up.
 const CELL_VISITS: u64 = 20_000_000;
@@ -164,9 +167,8 @@ fn oversized(rung: &mut Rung, columns: usize, rows: usize) {
         rung.elements.iter().map(|e| e.line).max().unwrap_or(0),
     );
     rung.oversized = Some(format!(
-        "Rung of lines {first}–{last} not drawn: {} elements need {} columns and {} rows; the ladder draws rungs of at most {MAX_RUNG_COLUMNS} columns and {MAX_RUNG_ROWS} rows (the program runs as written)",
+        "Rung of lines {first}–{last} not drawn: its {} elements need {columns} × {} cells, and the ladder draws rungs of at most {MAX_RUNG_COLUMNS} columns and {MAX_RUNG_ROWS} rows. The program runs as written.",
         rung.elements.len(),
-        columns,
         rows.max(1),
     ));
     for e in &mut rung.elements {
@@ -176,7 +178,8 @@ fn oversized(rung: &mut Rung, columns: usize, rows: usize) {
         e.from_col = 0;
         e.leg_rows = vec![0; e.from.len().max(1)];
     }
-    rung.rows = 1;
+    // Room for the note, wrapped, in the panel.
+    rung.rows = OVERSIZED_ROWS;
     rung.node_col = vec![0; rung.nodes as usize];
     rung.last_col = 0;
     rung.fillers = Vec::new();

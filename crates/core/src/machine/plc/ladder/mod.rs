@@ -22,7 +22,7 @@ mod power;
 #[cfg(test)]
 mod tests;
 
-pub use comments::{comment_of, with_comments};
+pub use comments::{comment_of, wiring_with_comments, with_comments};
 pub use draw::{RUNG_COMMENT_LINES, SVG_MARK, coil_letters, fit, svg, svg_of, value_text};
 pub use power::{RungPower, RungState, power_of, rung_state};
 

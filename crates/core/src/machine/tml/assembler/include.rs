@@ -121,6 +121,11 @@ impl Default for Budget {
 }
 
 impl Budget {
+    /// Whether the program grew past the bound: it is not assembled any further.
+    pub(super) fn ran_out(&self) -> bool {
+        self.exhausted
+    }
+
     /// Take one line of `chars` characters; false (and exhausted) when it does not fit.
     fn take(&mut self, chars: usize) -> bool {
         if self.exhausted || self.lines == 0 || self.chars < chars {
@@ -161,6 +166,15 @@ pub(super) fn expand(
         if budget.exhausted {
             break;
         }
+        if i + 1 >= crate::machine::project::FILE_LINES {
+            errors.push(Diagnostic::error(
+                line,
+                1,
+                1,
+                "file too long: servoscope reads at most 1048575 lines of a file",
+            ));
+            break;
+        }
         // A line, and a diagnostic too (a file included many times repeats its errors), takes
         // from the budget; the `#include` being expanded reports running out, or else the top
         // file's own line does.
@@ -169,15 +183,6 @@ pub(super) fn expand(
                 budget.reported = true;
                 errors.push(Budget::too_large(line, 1, l.chars().count().max(1)));
             }
-            break;
-        }
-        if i + 1 >= crate::machine::project::FILE_LINES {
-            errors.push(Diagnostic::error(
-                line,
-                1,
-                1,
-                "file too long: servoscope reads at most 1048575 lines of a file",
-            ));
             break;
         }
         let chars: Vec<char> = l.chars().collect();
@@ -198,7 +203,7 @@ pub(super) fn expand(
                         len,
                         if crate::machine::project::outside_top_folder(&name) {
                             format!(
-                                "cannot open included file '{path}': it is outside the program's folder, and servoscope reads included files only from the top file's folder and its subfolders unless you allow another folder (--include-dir DIR, or Include folders in the window's settings)"
+                                "cannot open included file '{path}': it is outside the program's folder, and servoscope reads included files only from the top file's folder and its subfolders unless you allow another folder (--include-dir DIR, or View → Include folders… in the window)"
                             )
                         } else {
                             format!("cannot open included file '{path}'")

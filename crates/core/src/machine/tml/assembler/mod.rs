@@ -204,6 +204,7 @@ pub fn assemble(source: &str) -> Result<Program, Vec<Diagnostic>> {
 pub fn assemble_project(project: &Project) -> Result<Program, Vec<Diagnostic>> {
     let mut errors: Vec<Diagnostic> = Vec::new();
     let mut lines: Vec<SourceLine> = Vec::new();
+    let mut budget = include::Budget::default();
     if !project.files.is_empty() {
         expand(
             project,
@@ -211,8 +212,13 @@ pub fn assemble_project(project: &Project) -> Result<Program, Vec<Diagnostic>> {
             &mut Vec::new(),
             &mut lines,
             &mut errors,
-            &mut include::Budget::default(),
+            &mut budget,
         );
+    }
+    // Past the bound, the rest is not assembled: a bomb's million lines would each give
+    // their diagnostics again.
+    if budget.ran_out() {
+        return Err(errors);
     }
     let describe = |line: usize| {
         if project.is_multi() {
