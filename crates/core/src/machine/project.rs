@@ -321,6 +321,11 @@ pub fn read_included(dir: &Path, wanted: &str, folders: &IncludeFolders) -> Opti
     } else {
         dir.join(wanted)
     };
+    // A path that climbs out of the folder is refused by its text too, even one that comes
+    // back in (`../prog/x.tml` would load a second copy of `x.tml` under another name).
+    if outside_top_folder(wanted) && folders.allowed.is_empty() {
+        return None;
+    }
     let found = find_on_disk(&on_disk)?;
     if !folders.permit(dir, &found) {
         return None;

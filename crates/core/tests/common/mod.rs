@@ -170,3 +170,14 @@ pub fn with_scratch_home(command: &mut std::process::Command) -> &mut std::proce
         .env("XDG_CACHE_HOME", home.join(".cache"))
         .env("XDG_STATE_HOME", home.join(".local/state"))
 }
+
+/// `f` on a thread of its own, given `seconds` before the test fails as a hang: a budget that
+/// ends a test of something that once ran for minutes, not a speed asserted.
+pub fn within<T: Send + 'static>(seconds: u64, f: impl FnOnce() -> T + Send + 'static) -> T {
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(f());
+    });
+    rx.recv_timeout(std::time::Duration::from_secs(seconds))
+        .expect("finished within its time budget")
+}

@@ -387,17 +387,6 @@ fn directsoft_element_documentation_names_the_elements() {
     assert_eq!(expr.eval(engine.machine()), 1);
 }
 
-/// `f` on a thread of its own, given `seconds` before the test fails as a hang (a budget that
-/// ends the test: these rungs took 24 s, or 4.3 GB and an abort, before).
-fn within<T: Send + 'static>(seconds: u64, f: impl FnOnce() -> T + Send + 'static) -> T {
-    let (tx, rx) = std::sync::mpsc::channel();
-    std::thread::spawn(move || {
-        let _ = tx.send(f());
-    });
-    rx.recv_timeout(std::time::Duration::from_secs(seconds))
-        .expect("finished within its time budget")
-}
-
 #[test]
 fn a_rung_too_long_to_draw_runs_and_shows_a_note_in_its_place() {
     // 200,000 series contacts (DL205) and 200,000 boxes on one rung (OpenNet), each followed
@@ -415,7 +404,7 @@ fn a_rung_too_long_to_draw_runs_and_shows_a_note_in_its_place() {
         ("opennet", boxes, 200_001, 200_002),
     ] {
         let (dialect, source) = (dialect.to_string(), source);
-        let (ladder, svg) = within(120, move || {
+        let (ladder, svg) = crate::common::within(120, move || {
             let d = by_name(&dialect).expect("registered");
             let engine = d
                 .open_text(&source, &d.default_settings())

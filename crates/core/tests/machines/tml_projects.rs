@@ -625,17 +625,6 @@ fn tables_a_and_b_have_the_specs_types_addresses_and_access() {
     );
 }
 
-/// `f` on a thread of its own, given `seconds` before the test fails as a hang (a budget that
-/// ends the test, not a speed asserted: the bomb ran for minutes and 3 GB before).
-fn within<T: Send + 'static>(seconds: u64, f: impl FnOnce() -> T + Send + 'static) -> T {
-    let (tx, rx) = std::sync::mpsc::channel();
-    std::thread::spawn(move || {
-        let _ = tx.send(f());
-    });
-    rx.recv_timeout(std::time::Duration::from_secs(seconds))
-        .expect("finished within its time budget")
-}
-
 #[test]
 fn an_include_bomb_stops_at_the_include_that_crosses_the_bound() {
     // 16 small files, each including the next four times: 4^15 copies of the last one.
@@ -650,7 +639,7 @@ fn an_include_bomb_stops_at_the_include_that_crosses_the_bound() {
     }
     write(&dir, "top.tml", "#include \"f0.tml\"\nEND;\n");
     let top = dir.join("top.tml");
-    let errors = within(120, move || {
+    let errors = crate::common::within(120, move || {
         let project = tml().load(&top).expect("reads");
         assert_eq!(project.files.len(), 17, "each file read once");
         match assemble_project(&project) {
