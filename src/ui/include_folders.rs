@@ -74,7 +74,8 @@ pub fn window(
             });
             ui.label(
                 RichText::new(
-                    "Kept with your preferences, never in a session. The command line's \
+                    "Kept with your preferences, never in a session. A folder removed is no \
+                     longer read from the next time a program is opened. The command line's \
                      --include-dir DIR does the same for one run.",
                 )
                 .small(),

@@ -437,7 +437,7 @@ fn saving_a_session_never_destroys_what_is_not_one() {
         assert_eq!(out.status.code(), Some(2));
         assert!(out.stdout.is_empty());
         let err = String::from_utf8_lossy(&out.stderr);
-        assert!(err.contains("never writes over its input"), "{err}");
+        assert!(err.contains("never writes over a file it read"), "{err}");
         assert_eq!(std::fs::read(f.path()).expect("still there"), before);
     }
     // Onto another program: refused without --overwrite.

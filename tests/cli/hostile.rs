@@ -79,7 +79,7 @@ fn no_output_replaces_the_program_or_a_file_that_is_not_its_kind() {
         assert_eq!(out.status.code(), Some(2), "{args:?}");
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(
-            err.contains("never writes over its input"),
+            err.contains("never writes over a file it read"),
             "{args:?}: {err}"
         );
         assert_eq!(text(&program), source, "{args:?}: the program stays");

@@ -361,7 +361,10 @@ fn an_export_never_replaces_the_programs_files() {
         part
     );
     let notice = h.state().notice.clone().unwrap_or_default();
-    assert!(notice.contains("never writes over its input"), "{notice}");
+    assert!(
+        notice.contains("never writes over a file it read"),
+        "{notice}"
+    );
     // A new file is written.
     apply(&mut h, Command::ExportCsv(dir.join("plot.csv")));
     assert!(

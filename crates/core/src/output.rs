@@ -58,7 +58,7 @@ impl Output {
 
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]
 pub enum Refusal {
-    #[error("{path} is a file this command reads ({what}); servoscope never writes over its input")]
+    #[error("{path} is {what}, and servoscope never writes over a file it read")]
     Input { path: String, what: String },
     #[error("{path} exists and is not {kind} ({found}), so it was not replaced")]
     NotOurs {

@@ -277,10 +277,15 @@ impl RungDrawing<'_> {
         let height = f32::from(rung.rows) * g.cell_h();
         let rail_x = self.origin.x + g.left();
         let right = rail_x + f32::from(self.cols) * g.cell_w();
-        let body = Rect::from_min_max(
-            pos2(self.origin.x, top),
-            pos2(right + g.left(), top + height),
-        );
+        // An oversized rung's note is wrapped to what the panel shows, not to the (narrow)
+        // drawn rungs; its highlight follows the note.
+        let wrap = (ui.clip_rect().right() - rail_x - g.at(8.0)).max(g.at(200.0));
+        let body_right = if rung.oversized.is_some() {
+            (right + g.left()).max(rail_x + wrap + g.at(4.0))
+        } else {
+            right + g.left()
+        };
+        let body = Rect::from_min_max(pos2(self.origin.x, top), pos2(body_right, top + height));
         if self.here {
             painter.rect_filled(body, 2.0, self.ink.current);
         }
@@ -295,8 +300,6 @@ impl RungDrawing<'_> {
         }
         // Too large to draw: its note, which names its lines, in its place.
         if let Some(why) = &rung.oversized {
-            // Wrapped to what the panel shows, not to the (narrow) drawn rungs.
-            let wrap = (ui.clip_rect().right() - rail_x - g.at(8.0)).max(g.at(200.0));
             let galley = painter.layout(why.clone(), g.mono(11.0), self.ink.comment, wrap);
             let at = pos2(rail_x, top + g.at(4.0));
             let shown = Rect::from_min_size(at, galley.size());
